@@ -1,0 +1,307 @@
+#include "drive/od/dictionary.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace mcemu::od {
+namespace {
+
+bool same(const Value& a, const Value& b) { return a == b; }
+
+std::int64_t decode_le(std::span<const std::byte> data, DataType type) {
+  const std::size_t n = size_of(type);
+  std::uint64_t raw = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    raw |= static_cast<std::uint64_t>(std::to_integer<std::uint8_t>(data[i])) << (8 * i);
+  }
+  if (is_signed(type)) {
+    const unsigned bits = static_cast<unsigned>(n * 8);
+    const std::uint64_t sign = std::uint64_t{1} << (bits - 1);
+    return static_cast<std::int64_t>((raw ^ sign)) - static_cast<std::int64_t>(sign);
+  }
+  return static_cast<std::int64_t>(raw);
+}
+
+}  // namespace
+
+Result<Value> convert_for_write(const EntryInfo& info, const Value& v) {
+  const bool want_string = is_string(info.type);
+  if (std::holds_alternative<std::string>(v) != want_string) return AbortCode::type_mismatch;
+  if (want_string) return v;
+  std::int64_t n = std::get<std::int64_t>(v);
+  const Range r = type_range(info.type);
+  if (n >= r.min && n <= r.max) return Value{n};
+  if (info.type == DataType::unsigned32 && n >= -2147483648LL && n <= -1) return Value{n + 4294967296LL};
+  return n > r.max ? AbortCode::value_too_high : AbortCode::value_too_low;
+}
+
+ObjectDictionary::ObjectDictionary(std::vector<EntryInfo> entries) {
+  std::sort(entries.begin(), entries.end(), [](const EntryInfo& a, const EntryInfo& b) {
+    return a.index != b.index ? a.index < b.index : a.sub < b.sub;
+  });
+  entries_.reserve(entries.size());
+  for (auto& info : entries) {
+    Value v = info.factory;
+    entries_.push_back(Entry{std::move(info), std::move(v), {}, {}});
+  }
+  build_index();
+  install_error_history_rule();
+}
+
+// 1003h.00 (object-dictionary.md §2.4, §5): from outside only 0 may be written, and it clears the
+// history. The drive core writes the count itself (origin internal) when it records an error.
+void ObjectDictionary::install_error_history_rule() {
+  if (!find(0x1003, 0)) return;
+  on_write(0x1003, 0, [this](WriteRequest& req) {
+    const auto n = std::get<std::int64_t>(req.value);
+    if (req.origin == Origin::internal) return AbortCode::none;
+    if (n != 0) return AbortCode::invalid_value;
+    for (std::uint8_t s = 1; s <= 4; ++s) {
+      if (auto h = find(0x1003, s)) set(*h, Value{std::int64_t{0}});
+    }
+    return AbortCode::none;
+  });
+}
+
+void ObjectDictionary::build_index() {
+  objects_.clear();
+  for (std::uint32_t i = 0; i < entries_.size(); ++i) {
+    const auto& e = entries_[i].info;
+    if (i > 0 && entries_[i - 1].info.index == e.index) {
+      if (entries_[i - 1].info.sub == e.sub) throw std::logic_error("duplicate OD entry");
+      ++objects_.back().count;
+    } else {
+      objects_.push_back({e.index, i, 1});
+    }
+  }
+}
+
+Result<Handle> ObjectDictionary::locate(std::uint16_t index, std::uint8_t sub) const {
+  auto it = std::lower_bound(objects_.begin(), objects_.end(), index,
+                             [](const ObjectSlot& s, std::uint16_t i) { return s.index < i; });
+  if (it == objects_.end() || it->index != index) return AbortCode::no_object;
+  const auto first = entries_.begin() + it->first;
+  const auto last = first + it->count;
+  auto e = std::lower_bound(first, last, sub, [](const Entry& en, std::uint8_t s) { return en.info.sub < s; });
+  if (e == last || e->info.sub != sub) return AbortCode::no_sub;
+  return static_cast<Handle>(e - entries_.begin());
+}
+
+std::optional<Handle> ObjectDictionary::find(std::uint16_t index, std::uint8_t sub) const {
+  auto r = locate(index, sub);
+  if (!r) return std::nullopt;
+  return *r;
+}
+
+Handle ObjectDictionary::handle(std::uint16_t index, std::uint8_t sub) const {
+  auto r = locate(index, sub);
+  if (!r) throw std::out_of_range("object dictionary has no entry " + std::to_string(index) + "." + std::to_string(sub));
+  return *r;
+}
+
+bool ObjectDictionary::has_object(std::uint16_t index) const {
+  auto it = std::lower_bound(objects_.begin(), objects_.end(), index,
+                             [](const ObjectSlot& s, std::uint16_t i) { return s.index < i; });
+  return it != objects_.end() && it->index == index;
+}
+
+const EntryInfo* ObjectDictionary::info(std::uint16_t index, std::uint8_t sub) const {
+  auto r = locate(index, sub);
+  return r ? &entries_[*r].info : nullptr;
+}
+
+std::int64_t ObjectDictionary::number(Handle h) const {
+  const Value& v = entries_[h].value;
+  return std::holds_alternative<std::int64_t>(v) ? std::get<std::int64_t>(v) : 0;
+}
+
+Result<Value> ObjectDictionary::read_entry(const Entry& e) const {
+  if (!e.read_hook) return e.value;
+  auto r = e.read_hook(e.info);
+  if (!r) return AbortCode::general;
+  return r;
+}
+
+AbortCode ObjectDictionary::check_upload(std::uint16_t index, std::uint8_t sub) const {
+  auto h = locate(index, sub);
+  if (!h) return h.error();
+  if (entries_[*h].info.access == Access::wo) return AbortCode::write_only;
+  return AbortCode::none;
+}
+
+Result<Value> ObjectDictionary::read(std::uint16_t index, std::uint8_t sub) const {
+  auto h = locate(index, sub);
+  if (!h) return h.error();
+  const Entry& e = entries_[*h];
+  if (e.info.access == Access::wo) return AbortCode::write_only;
+  return read_entry(e);
+}
+
+Result<std::int64_t> ObjectDictionary::read_number(std::uint16_t index, std::uint8_t sub) const {
+  auto h = locate(index, sub);
+  if (!h) return h.error();
+  const Entry& e = entries_[*h];
+  if (e.info.access == Access::wo) return AbortCode::write_only;
+  if (is_string(e.info.type)) return AbortCode::type_mismatch;
+  auto v = read_entry(e);
+  if (!v) return v.error();
+  return std::get<std::int64_t>(*v);
+}
+
+Result<std::vector<std::byte>> ObjectDictionary::read_bytes(std::uint16_t index, std::uint8_t sub) const {
+  auto v = read(index, sub);
+  if (!v) return v.error();
+  const EntryInfo& inf = *info(index, sub);
+  std::vector<std::byte> out;
+  if (is_string(inf.type)) {
+    const auto& s = std::get<std::string>(*v);
+    out.reserve(s.size());
+    for (char c : s) out.push_back(static_cast<std::byte>(c));
+    return out;
+  }
+  const auto raw = static_cast<std::uint64_t>(std::get<std::int64_t>(*v));
+  for (std::size_t i = 0; i < size_of(inf.type); ++i) out.push_back(static_cast<std::byte>((raw >> (8 * i)) & 0xFF));
+  return out;
+}
+
+AbortCode ObjectDictionary::check_limits(const Entry& e, std::int64_t v, bool bulk) const {
+  if (e.info.limits) {
+    if (v > e.info.limits->max) return AbortCode::value_too_high;
+    if (v < e.info.limits->min) return AbortCode::value_too_low;
+  }
+  if (e.info.validator) {
+    std::optional<std::int64_t> stored;
+    if (!bulk && std::holds_alternative<std::int64_t>(e.value)) stored = std::get<std::int64_t>(e.value);
+    return e.info.validator(*this, stored, v);
+  }
+  return AbortCode::none;
+}
+
+void ObjectDictionary::store(Entry& e, Value v) {
+  if (same(e.value, v)) return;
+  e.value = std::move(v);
+  for (const auto& l : listeners_) l(e.info, e.value);
+}
+
+AbortCode ObjectDictionary::commit(Handle h, Value v, Origin origin, Done& done) {
+  Entry& e = entries_[h];
+  if (std::holds_alternative<std::int64_t>(v)) {
+    if (auto c = check_limits(e, std::get<std::int64_t>(v), false); c != AbortCode::none) return c;
+  }
+  if (!e.write_hook) {
+    store(e, std::move(v));
+    return AbortCode::none;
+  }
+  WriteRequest req{e.info, origin, e.value, std::move(v), &done};
+  const AbortCode c = e.write_hook(req);
+  if (c != AbortCode::none) return c;
+  // The hook may have written other entries (never this vector's layout), so re-index.
+  Entry& again = entries_[h];
+  auto stored = convert_for_write(again.info, req.value);
+  if (!stored) return AbortCode::general;  // a hook produced a value the entry cannot hold: a bug
+  store(again, std::move(*stored));
+  return AbortCode::none;
+}
+
+AbortCode ObjectDictionary::write(std::uint16_t index, std::uint8_t sub, const Value& value, Origin origin,
+                                  Done done) {
+  auto h = locate(index, sub);
+  if (!h) return h.error();
+  const Entry& e = entries_[*h];
+  if (origin != Origin::internal && (e.info.access == Access::ro || e.info.access == Access::const_)) {
+    return AbortCode::read_only;
+  }
+  auto v = convert_for_write(e.info, value);
+  if (!v) return v.error();
+  return commit(*h, std::move(*v), origin, done);
+}
+
+AbortCode ObjectDictionary::set(Handle h, const Value& value) {
+  auto v = convert_for_write(entries_[h].info, value);
+  if (!v) return v.error();
+  Done none;
+  return commit(h, std::move(*v), Origin::internal, none);
+}
+
+AbortCode ObjectDictionary::check_download(std::uint16_t index, std::uint8_t sub,
+                                           std::optional<std::size_t> size) const {
+  auto h = locate(index, sub);
+  if (!h) return h.error();
+  const Entry& e = entries_[*h];
+  if (e.info.access == Access::ro || e.info.access == Access::const_) return AbortCode::read_only;
+  if (size && !is_string(e.info.type)) {
+    const std::size_t n = size_of(e.info.type);
+    if (*size > n && !(e.info.length_tolerant && *size == 4)) return AbortCode::length_too_high;
+    if (*size < n) return AbortCode::length_too_low;
+  }
+  return AbortCode::none;
+}
+
+AbortCode ObjectDictionary::write_bytes(std::uint16_t index, std::uint8_t sub, std::span<const std::byte> data,
+                                        SdoLength length, Origin origin, Done done) {
+  auto h = locate(index, sub);
+  if (!h) return h.error();
+  const Entry& e = entries_[*h];
+  if (origin != Origin::internal && (e.info.access == Access::ro || e.info.access == Access::const_)) {
+    return AbortCode::read_only;
+  }
+  if (is_string(e.info.type)) {
+    std::string s;
+    s.reserve(data.size());
+    for (auto b : data) s.push_back(static_cast<char>(b));
+    return commit(*h, Value{std::move(s)}, origin, done);
+  }
+  const std::size_t n = size_of(e.info.type);
+  const std::size_t got = data.size();
+  if (length == SdoLength::segmented_unindicated && got != n) return AbortCode::type_mismatch;
+  if (length == SdoLength::indicated && got > n) {
+    if (!(e.info.length_tolerant && got == 4)) return AbortCode::length_too_high;
+    const std::int64_t v = decode_le(data, DataType::integer32);
+    if (v > 65535) return AbortCode::value_too_high;
+    if (v < 0) return AbortCode::value_too_low;
+    return commit(*h, Value{v}, origin, done);
+  }
+  if (got < n) return AbortCode::length_too_low;
+  return commit(*h, Value{decode_le(data.first(n), e.info.type)}, origin, done);
+}
+
+void ObjectDictionary::on_write(std::uint16_t index, std::uint8_t sub, WriteHook hook) {
+  entries_[handle(index, sub)].write_hook = std::move(hook);
+}
+
+void ObjectDictionary::on_read(std::uint16_t index, std::uint8_t sub, ReadHook hook) {
+  entries_[handle(index, sub)].read_hook = std::move(hook);
+}
+
+void ObjectDictionary::on_change(ChangeListener listener) { listeners_.push_back(std::move(listener)); }
+
+std::vector<LoadIssue> ObjectDictionary::load_values(std::span<const StoredValue> values) {
+  std::vector<LoadIssue> issues;
+  for (const auto& sv : values) {
+    auto h = locate(sv.index, sv.sub);
+    if (!h) {
+      issues.push_back({sv.index, sv.sub, h.error()});
+      continue;
+    }
+    Entry& e = entries_[*h];
+    auto v = convert_for_write(e.info, sv.value);
+    if (!v) {
+      issues.push_back({sv.index, sv.sub, v.error()});
+      continue;
+    }
+    if (std::holds_alternative<std::int64_t>(*v)) {
+      if (auto c = check_limits(e, std::get<std::int64_t>(*v), true); c != AbortCode::none) {
+        issues.push_back({sv.index, sv.sub, c});
+        continue;
+      }
+    }
+    e.value = std::move(*v);
+  }
+  return issues;
+}
+
+void ObjectDictionary::for_each(const std::function<void(const EntryInfo&, const Value&)>& fn) const {
+  for (const auto& e : entries_) fn(e.info, e.value);
+}
+
+}  // namespace mcemu::od

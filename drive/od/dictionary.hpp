@@ -1,0 +1,173 @@
+// The object dictionary: the one store of drive state (object-dictionary.md §3.3).
+//
+// Contract:
+// - Single-threaded: every call happens on the event-loop thread. Hooks may write other entries
+//   (re-entrant writes are allowed); entries never move after construction, so Handles and
+//   EntryInfo pointers stay valid for the dictionary's lifetime.
+// - Every write runs the checks of object-dictionary.md §4.1 in order; the first failure is the
+//   result and a refused write changes nothing. A write hook runs after the checks and may refuse
+//   (its code is the result), replace the value to be stored, or answer `pending` after taking
+//   the completion callback (Store/Restore only).
+// - Change listeners are called after every change of a stored value, whatever the origin, but not
+//   by load_values() (bulk load: no hooks, no notifications).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "drive/od/abort_code.hpp"
+#include "drive/od/types.hpp"
+
+namespace mcemu::model {
+struct ModelPreset;
+}
+
+namespace mcemu::od {
+
+class ObjectDictionary;
+
+// Completion of a write that answered `pending` (called later on the event-loop thread).
+using Done = std::function<void(AbortCode)>;
+
+// Extra write rule of an entry beyond its data type (object-dictionary.md §5). Gets the stored
+// value (nullopt during a bulk load, where rules about the transition from the stored value do not
+// apply) and the new value; returns none or the abort code (0x06090030/31/32).
+using Validator =
+    std::function<AbortCode(const ObjectDictionary&, std::optional<std::int64_t> stored, std::int64_t next)>;
+
+struct EntryInfo {
+  std::uint16_t index = 0;
+  std::uint8_t sub = 0;
+  std::uint8_t object_code = 7;  // 7 VAR, 8 ARRAY, 9 RECORD
+  DataType type = DataType::unsigned8;
+  Access access = Access::ro;
+  PdoFlag pdo = PdoFlag::no;
+  EntryClass cls = EntryClass::live;
+  std::string name;
+  std::string object_name;
+  Value factory;                    // factory value of the preset (before --config)
+  std::optional<Range> limits;      // min/max of §5 (.31/.32)
+  Validator validator;              // sets and structural rules of §5 (.30)
+  bool length_tolerant = false;     // 4-byte SDO writes accepted (object-dictionary.md §3.1)
+  bool from_xdd = true;             // false for the mcemu additions of §8.3
+};
+
+// The request a write hook sees. `value` is what will be stored if the hook returns none; the hook
+// may replace it. To answer later, return AbortCode::pending after moving `*done` (may be empty).
+struct WriteRequest {
+  const EntryInfo& info;
+  Origin origin;
+  const Value& stored;
+  Value value;
+  Done* done;
+};
+using WriteHook = std::function<AbortCode(WriteRequest&)>;
+// Produces the value of an entry on read (strings, mirrors). A failure reads as 0x08000000.
+using ReadHook = std::function<Result<Value>(const EntryInfo&)>;
+using ChangeListener = std::function<void(const EntryInfo&, const Value&)>;
+
+// How an SDO download states its length (object-dictionary.md §3.1).
+enum class SdoLength : std::uint8_t { indicated, expedited_unindicated, segmented_unindicated };
+
+struct StoredValue {
+  std::uint16_t index;
+  std::uint8_t sub;
+  Value value;
+};
+struct LoadIssue {
+  std::uint16_t index;
+  std::uint8_t sub;
+  AbortCode code;
+};
+
+using Handle = std::uint32_t;
+
+class ObjectDictionary {
+ public:
+  // The dictionary of a preset: its XDD base, the additions of §8.3 and the factory values of §7
+  // and models.md (drive/od/model_tables.cpp).
+  explicit ObjectDictionary(const model::ModelPreset& preset);
+  // A dictionary of the given entries (tests; sorted and validated here).
+  explicit ObjectDictionary(std::vector<EntryInfo> entries);
+
+  ObjectDictionary(const ObjectDictionary&) = delete;
+  ObjectDictionary& operator=(const ObjectDictionary&) = delete;
+
+  Result<Value> read(std::uint16_t index, std::uint8_t sub) const;
+  Result<std::int64_t> read_number(std::uint16_t index, std::uint8_t sub) const;
+  // SDO upload bytes: N little-endian bytes for numbers, the characters for strings.
+  Result<std::vector<std::byte>> read_bytes(std::uint16_t index, std::uint8_t sub) const;
+
+  AbortCode write(std::uint16_t index, std::uint8_t sub, const Value& value, Origin origin,
+                  Done done = {});
+  AbortCode write_bytes(std::uint16_t index, std::uint8_t sub, std::span<const std::byte> data,
+                        SdoLength length, Origin origin = Origin::sdo, Done done = {});
+  // Checks 1–4 of §4.1 alone, for an SDO download initiate (size = indicated size, if any).
+  AbortCode check_download(std::uint16_t index, std::uint8_t sub, std::optional<std::size_t> size) const;
+  // Checks 1–3 of a read alone, for an SDO upload initiate.
+  AbortCode check_upload(std::uint16_t index, std::uint8_t sub) const;
+
+  void on_write(std::uint16_t index, std::uint8_t sub, WriteHook hook);
+  void on_read(std::uint16_t index, std::uint8_t sub, ReadHook hook);
+  void on_change(ChangeListener listener);
+
+  // Bulk load: type and §5 limits checked per value (a bad one keeps its old value and is
+  // reported); no access check, no hooks, no change notifications.
+  std::vector<LoadIssue> load_values(std::span<const StoredValue> values);
+
+  const EntryInfo* info(std::uint16_t index, std::uint8_t sub) const;
+  bool has_object(std::uint16_t index) const;
+  // Ascending (index, sub); the value is the stored value (read hooks are not run).
+  void for_each(const std::function<void(const EntryInfo&, const Value&)>& fn) const;
+  std::size_t size() const { return entries_.size(); }
+
+  // Fast paths for components that own entries (the drive core). find() resolves once;
+  // number() reads the stored value (no hook); set() is an internal write with the full checks.
+  std::optional<Handle> find(std::uint16_t index, std::uint8_t sub) const;
+  Handle handle(std::uint16_t index, std::uint8_t sub) const;  // throws std::out_of_range if absent
+  const EntryInfo& info(Handle h) const { return entries_[h].info; }
+  std::int64_t number(Handle h) const;
+  const Value& value(Handle h) const { return entries_[h].value; }
+  AbortCode set(Handle h, const Value& v);
+
+  // Reads of entries that must exist for the caller's model (throws std::out_of_range otherwise).
+  std::int64_t number(std::uint16_t index, std::uint8_t sub) const { return number(handle(index, sub)); }
+
+ private:
+  struct Entry {
+    EntryInfo info;
+    Value value;
+    WriteHook write_hook;
+    ReadHook read_hook;
+  };
+  struct ObjectSlot {
+    std::uint16_t index;
+    std::uint32_t first;
+    std::uint32_t count;
+  };
+
+  void build_index();
+  void install_error_history_rule();
+  // Checks 1–2 of §4.1; returns the entry or the code.
+  Result<Handle> locate(std::uint16_t index, std::uint8_t sub) const;
+  Result<Value> read_entry(const Entry& e) const;
+  // Checks 5–6 and the hook, then stores. `v` is already of the entry's kind.
+  AbortCode commit(Handle h, Value v, Origin origin, Done& done);
+  AbortCode check_limits(const Entry& e, std::int64_t v, bool bulk) const;
+  void store(Entry& e, Value v);
+
+  std::vector<Entry> entries_;
+  std::vector<ObjectSlot> objects_;
+  std::vector<ChangeListener> listeners_;
+};
+
+// Value-interface conversion of §3.2 steps 1–4: checks kind and data-type range; a negative value
+// for UNSIGNED32 becomes its two's-complement pattern. Returns the normalised value or the code.
+Result<Value> convert_for_write(const EntryInfo& info, const Value& v);
+
+}  // namespace mcemu::od
