@@ -128,6 +128,13 @@ inline std::string sdo(std::initializer_list<int> bytes) {
   return s + "\r";
 }
 
+// "t5B28" + 16 hex digits + CR: the response line with the given bytes.
+inline std::string resp(std::initializer_list<int> bytes) {
+  std::string s = sdo(bytes);
+  s.replace(1, 3, "5B2");
+  return s;
+}
+
 // The abort response line for (index, sub, code).
 inline std::string abort_line(std::uint16_t index, std::uint8_t sub, std::uint32_t code) {
   char buf[32];
