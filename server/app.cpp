@@ -125,22 +125,23 @@ void App::bind_listeners() {
   if (ec) throw UsageError("invalid value '" + settings_.bind + "' for --bind (" + ec.message() + ")");
 
   const auto make_line = [&](const std::string& name, const std::string& label, std::uint16_t port,
-                             const std::string& flag, std::size_t max_clients, bool close_on_overflow) {
+                             const std::string& flag, std::size_t max_clients, bool close_on_overflow,
+                             line::net::SessionFactory factory) {
     line::net::LineServerOptions o;
     o.name = name;
     o.flag = flag;
     o.max_clients = max_clients;
     o.close_on_overflow = close_on_overflow;
     try {
-      return std::make_unique<line::net::LineServer>(
-          io_, tcp::endpoint(address, port), o,
-          [](const line::net::PeerInfo&) { return std::make_unique<SilentSession>(); });
+      return std::make_unique<line::net::LineServer>(io_, tcp::endpoint(address, port), o, std::move(factory));
     } catch (const boost::system::system_error& e) {
       bind_failed(label, settings_.bind, port, flag, e);
     }
   };
-  refgo_ = make_line("refgo", "RefGo", settings_.refgo_port, "--refgo-port", settings_.refgo_max_clients, false);
-  slcan_ = make_line("slcan", "SLCAN", settings_.slcan_port, "--slcan-port", settings_.slcan_max_clients, true);
+  refgo_ = make_line("refgo", "RefGo", settings_.refgo_port, "--refgo-port", settings_.refgo_max_clients, false,
+                     [this](const line::net::PeerInfo& p) { return make_refgo_session(p); });
+  slcan_ = make_line("slcan", "SLCAN", settings_.slcan_port, "--slcan-port", settings_.slcan_max_clients, true,
+                     [this](const line::net::PeerInfo& p) { return make_slcan_session(p); });
 
   web::net::HttpOptions http_options;
   http_options.max_clients = settings_.http_max_clients;
@@ -186,6 +187,19 @@ void App::bind_listeners() {
   }
 }
 
+// ---- protocol engines behind the listeners ----------------------------------------------------
+
+std::unique_ptr<line::StreamSession> App::make_refgo_session(const line::net::PeerInfo&) {
+  return std::make_unique<SilentSession>();
+}
+
+std::unique_ptr<line::StreamSession> App::make_slcan_session(const line::net::PeerInfo&) {
+  return std::make_unique<SilentSession>();
+}
+
+// One simulation step of 1 ms (drive-core.md §2), called by the clock driver.
+void App::step() {}
+
 void App::start_udp_receive() {
   udp_->async_receive_from(asio::buffer(udp_buffer_), udp_peer_,
                            [this](const boost::system::error_code& ec, std::size_t) {
@@ -207,7 +221,7 @@ void App::start() {
   slcan_->start();
   http_->start();
   start_udp_receive();
-  clock_ = std::make_unique<ClockDriver>(io_, [] {});
+  clock_ = std::make_unique<ClockDriver>(io_, [this] { step(); });
   clock_->start();
   spdlog::info("mcemu {} ready", MCEMU_VERSION);
 }

@@ -13,8 +13,12 @@
 #include "drive/od/dictionary.hpp"
 #include "server/settings.hpp"
 
+namespace mcemu::line {
+class StreamSession;
+}
 namespace mcemu::line::net {
 class LineServer;
+struct PeerInfo;
 }
 namespace mcemu::web::net {
 class HttpServer;
@@ -51,6 +55,9 @@ class App {
   void build_drive();
   void bind_listeners();
   void start_udp_receive();
+  std::unique_ptr<line::StreamSession> make_refgo_session(const line::net::PeerInfo& peer);
+  std::unique_ptr<line::StreamSession> make_slcan_session(const line::net::PeerInfo& peer);
+  void step();
   std::string active_ip() const;
   std::string active_mask() const;
 
