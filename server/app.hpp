@@ -19,7 +19,7 @@ class StreamSession;
 namespace mcemu::line::net {
 class LineServer;
 struct PeerInfo;
-}
+}  // namespace mcemu::line::net
 namespace mcemu::web::net {
 class HttpServer;
 }
