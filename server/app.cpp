@@ -9,7 +9,9 @@
 #include "persistence/service.hpp"
 #include "persistence/state_dir.hpp"
 #include "persistence/worker_storage.hpp"
+#include "protocols/canopen/comm_reload.hpp"
 #include "protocols/line/net/line_server.hpp"
+#include "server/canopen_bus.hpp"
 #include "server/clock_driver.hpp"
 #include "server/drive_image.hpp"
 #include "web/api/router.hpp"
@@ -39,7 +41,7 @@ std::string utc_format(const char* fmt) {
                      e.code().message() + "); choose another port with " + flag);
 }
 
-// Placeholder session for the RefGo and SLCAN ports until their protocol engines are wired: the
+// Placeholder session for the RefGo port until its protocol engine is wired: the
 // listener, its limits and socket options exist from the foundation on (issue 2).
 class SilentSession final : public line::StreamSession {
  public:
@@ -59,6 +61,7 @@ std::string utc_compact() { return utc_format("%Y%m%dT%H%M%SZ"); }
 
 App::App(asio::io_context& io, Settings settings) : io_(io), settings_(std::move(settings)) {
   build_drive();
+  build_canopen();
   bind_listeners();
 }
 
@@ -103,6 +106,9 @@ void App::build_drive() {
                                                           persistence::write_options_from_environment());
   persistence::ServiceHooks hooks;
   hooks.now_utc = utc_iso8601;
+  hooks.after_restore = [this] {
+    if (canopen_) canopen_->node().reload();
+  };
   persistence_ = std::make_unique<persistence::Service>(*od_, preset_.name, MCEMU_VERSION, std::move(factory),
                                                         std::move(on_file), *storage_, std::move(hooks));
 }
@@ -132,6 +138,7 @@ void App::bind_listeners() {
     o.flag = flag;
     o.max_clients = max_clients;
     o.close_on_overflow = close_on_overflow;
+    if (close_on_overflow) o.pause_above = slcan_queue_limit_;  // slcan.queue_limit_bytes
     try {
       return std::make_unique<line::net::LineServer>(io_, tcp::endpoint(address, port), o, std::move(factory));
     } catch (const boost::system::system_error& e) {
@@ -194,11 +201,64 @@ std::unique_ptr<line::StreamSession> App::make_refgo_session(const line::net::Pe
 }
 
 std::unique_ptr<line::StreamSession> App::make_slcan_session(const line::net::PeerInfo&) {
-  return std::make_unique<SilentSession>();
+  return canopen_->make_session();
 }
 
 // One simulation step of 1 ms (drive-core.md §2), called by the clock driver.
-void App::step() {}
+void App::step() { canopen_->step(); }
+
+// ---- CANopen node on the SLCAN port (slcan-canopen.md) ----------------------------------------
+
+void App::build_canopen() {
+  slcan::SlcanConfig slcan_config;
+  canopen::CanopenConfig canopen_config;
+  try {
+    slcan_config = slcan::slcan_config_from_json(settings_.config.value("slcan", nlohmann::json::object()));
+    canopen_config = canopen::canopen_config_from_json(settings_.config.value("canopen", nlohmann::json::object()));
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("config: ") + e.what());
+  }
+  if (canopen_config.dynamic_pdo_mapping) {
+    throw UsageError("config: canopen.dynamic_pdo_mapping: true is not supported yet (fixed mapping only)");
+  }
+  slcan_queue_limit_ = slcan_config.queue_limit_bytes;
+  canopen::Node::Hooks hooks;
+  hooks.reset_node = [this] { rebuild_ram_image(); };
+  hooks.reset_communication = [this] { reload_communication_objects(); };
+  hooks.connection_lost = [] { spdlog::warn("canopen: life guarding expired (connectionLost)"); };
+  hooks.diagnostic = [](const std::string& text) { spdlog::debug("canopen: {}", text); };
+  canopen_ = std::make_unique<CanopenBus>(*od_, std::move(slcan_config), canopen_config, std::move(hooks));
+}
+
+// NMT reset node: the drive part of a power cycle (persistence.md §5, §7): RAM image = factory
+// image (preset, then --config "objects") overlaid with the file as it is on disk now, then an
+// explicit --ip. Live values, constants and command entries are the core's and the OD's own.
+void App::rebuild_ram_image() {
+  std::vector<od::StoredValue> image;
+  od_->for_each([&](const od::EntryInfo& e, const od::Value&) {
+    if (e.cls == od::EntryClass::param || e.cls == od::EntryClass::comm || e.cls == od::EntryClass::proc) {
+      image.push_back({e.index, e.sub, e.factory});
+    }
+  });
+  od_->load_values(image);
+  apply_config_objects(*od_, settings_.config);
+  if (const auto& file = persistence_->on_file()) od_->load_values(file->objects);
+  if (settings_.ip_explicit) {
+    const auto octets = parse_ipv4(settings_.ip, "--ip");
+    std::vector<od::StoredValue> ip;
+    for (std::uint8_t s = 1; s <= 4; ++s) ip.push_back({0x5007, s, od::Value{std::int64_t{octets[s - 1]}}});
+    od_->load_values(ip);
+  }
+  spdlog::info("canopen: NMT reset node: drive image rebuilt from the factory image and the state file");
+}
+
+// NMT reset communication: 1000h–1FFFh and 3404h.03 from the factory image and the file.
+void App::reload_communication_objects() {
+  const auto& file = persistence_->on_file();
+  canopen::reload_communication_objects(
+      *od_, persistence_->factory().objects,
+      file ? std::span<const od::StoredValue>(file->objects) : std::span<const od::StoredValue>());
+}
 
 void App::start_udp_receive() {
   udp_->async_receive_from(asio::buffer(udp_buffer_), udp_peer_,
@@ -221,6 +281,7 @@ void App::start() {
   slcan_->start();
   http_->start();
   start_udp_receive();
+  canopen_->power_on();
   clock_ = std::make_unique<ClockDriver>(io_, [this] { step(); });
   clock_->start();
   spdlog::info("mcemu {} ready", MCEMU_VERSION);

@@ -32,6 +32,7 @@ class WorkerStorage;
 namespace mcemu::server {
 
 class ClockDriver;
+class CanopenBus;
 
 // A start-up failure that ends the process with one line and exit status 1 (e.g. a port in use).
 struct StartupError : std::runtime_error {
@@ -60,6 +61,10 @@ class App {
   void step();
   std::string active_ip() const;
   std::string active_mask() const;
+  // CANopen node on the SLCAN port (slcan-canopen.md): bus, and the NMT resets it asks for.
+  void build_canopen();
+  void rebuild_ram_image();
+  void reload_communication_objects();
 
   boost::asio::io_context& io_;
   Settings settings_;
@@ -73,6 +78,8 @@ class App {
   std::unique_ptr<web::net::HttpServer> http_;
   std::unique_ptr<boost::asio::ip::udp::socket> udp_;
   std::unique_ptr<ClockDriver> clock_;
+  std::unique_ptr<CanopenBus> canopen_;
+  std::size_t slcan_queue_limit_ = 256 * 1024;
   std::array<char, 2048> udp_buffer_{};
   boost::asio::ip::udp::endpoint udp_peer_;
   bool shut_down_ = false;

@@ -15,14 +15,18 @@ bool communication_entry(const od::EntryInfo& e) {
 
 }  // namespace
 
-void reload_communication_objects(od::ObjectDictionary& od, std::span<const od::StoredValue> stored) {
+void reload_communication_objects(od::ObjectDictionary& od, std::span<const od::StoredValue> factory_image,
+                                  std::span<const od::StoredValue> stored) {
   std::vector<od::StoredValue> image;
   od.for_each([&](const od::EntryInfo& e, const od::Value&) {
     if (communication_entry(e)) image.push_back({e.index, e.sub, e.factory});
   });
-  for (const auto& s : stored) {
-    const od::EntryInfo* e = od.info(s.index, s.sub);
-    if (e != nullptr && communication_entry(*e)) image.push_back(s);
+  // Later values win in a bulk load: preset factory, then the factory image, then the file.
+  for (const auto layer : {factory_image, stored}) {
+    for (const auto& s : layer) {
+      const od::EntryInfo* e = od.info(s.index, s.sub);
+      if (e != nullptr && communication_entry(*e)) image.push_back(s);
+    }
   }
   (void)od.load_values(image);
 }

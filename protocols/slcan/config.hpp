@@ -17,7 +17,7 @@ struct SlcanConfig {
   std::string version = "1010";                // exactly 4 decimal digits: `V1010\r`, `v1010\r`
   int serial_digits = 4;                       // 4 or 8 hex digits of 3404h.04 in the `N` reply
   std::optional<int> max_clients;              // unset: --max-clients (default 8) applies
-  std::size_t queue_limit_bytes = 256 * 1024;  // per-session output cap (§3.1)
+  std::size_t queue_limit_bytes = 256 * 1024;  // per-session output cap (§3.1), applied by the TCP adapter
 };
 
 // Reads the "slcan" object of the config file. Absent keys keep their defaults. Throws

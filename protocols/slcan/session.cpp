@@ -24,10 +24,7 @@ void Session::receive(std::string_view bytes) {
   if (finished()) return;
   std::vector<line::Line> lines;
   assembler_.feed(bytes, lines);
-  for (const auto& l : lines) {
-    if (overflowed_) break;
-    handle_line(l);
-  }
+  for (const auto& l : lines) handle_line(l);
 }
 
 std::string Session::take_output() { return std::exchange(output_, {}); }
@@ -127,13 +124,6 @@ void Session::deliver(const can::Frame& frame, std::chrono::milliseconds stamp) 
 }
 
 void Session::queue(std::string_view text, bool from_node) {
-  if (overflowed_) return;
-  if (output_.size() + backlog_ + text.size() > config_.queue_limit_bytes) {
-    overflowed_ = true;
-    event("queue overflow: more than " + std::to_string(config_.queue_limit_bytes) + " bytes queued");
-    wake();
-    return;
-  }
   output_.append(text);
   if (trace_) trace_({TraceEvent::Dir::tx, std::string(text), false});
   // Replies are collected by the adapter after receive(); node frames may arrive at any time.

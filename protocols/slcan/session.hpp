@@ -8,9 +8,8 @@
 // - Ordering (§2): for a frame line the acknowledgement is queued first, then `to_node` is called;
 //   whatever the node sends in reply comes back through deliver() inside that call and is queued
 //   after the acknowledgement.
-// - Output cap (§3.1): when queued output (this session's untaken output plus the adapter's unsent
-//   backlog, reported through set_backlog()) would exceed queue_limit_bytes, the session stops
-//   queuing, reports overflowed() and finished(); the adapter then closes the connection.
+// - Output cap (§3.1): enforced by the TCP adapter, which owns the write queue (the server sets
+//   its close-on-overflow limit to slcan.queue_limit_bytes); the session never drops output.
 #pragma once
 
 #include <chrono>
@@ -49,18 +48,15 @@ class Session final : public line::StreamSession {
   void receive(std::string_view bytes) override;
   std::string take_output() override;
   void peer_closed() override;
-  bool finished() const override { return peer_closed_ || overflowed_; }
+  bool finished() const override { return peer_closed_; }
 
   // A frame sent by the node; queued if this session is OPEN or LISTEN (§3.3). `stamp` is the
   // simulated time since the drive's power on (used only after Z1).
   void deliver(const can::Frame& frame, std::chrono::milliseconds stamp);
-  // Bytes the adapter has taken but not yet written to the socket (for the output cap).
-  void set_backlog(std::size_t bytes) { backlog_ = bytes; }
   void set_trace(Trace trace) { trace_ = std::move(trace); }
 
   ChannelState state() const { return state_; }
   bool timestamps() const { return timestamps_; }
-  bool overflowed() const { return overflowed_; }
   // Remembered parameters that have no effect over TCP (§3.4).
   int bitrate_code() const { return bitrate_code_; }
 
@@ -78,11 +74,9 @@ class Session final : public line::StreamSession {
   Trace trace_;
   line::LineAssembler assembler_{k_max_line, line::keep_all};
   std::string output_;
-  std::size_t backlog_ = 0;
   ChannelState state_ = ChannelState::open;
   bool timestamps_ = false;
   bool peer_closed_ = false;
-  bool overflowed_ = false;
   int bitrate_code_ = -1;
   std::uint32_t btr_ = 0;
   std::uint32_t acceptance_code_ = 0;

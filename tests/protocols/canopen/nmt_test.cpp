@@ -72,7 +72,7 @@ TEST(Nmt, ResetNodeCallsTheServerAndBootsAfter50ms) {  // NMT-05
   hooks.reset_node = [&] {
     ++resets;
     // the composition root rebuilds the OD: factory image + stored file (here: 1017h stored 500)
-    reload_communication_objects(*hp->od, std::vector<od::StoredValue>{{0x1017, 0, od::Value{std::int64_t{500}}}});
+    reload_communication_objects(*hp->od, {}, std::vector<od::StoredValue>{{0x1017, 0, od::Value{std::int64_t{500}}}});
     hp->set(0x6041, 0, 0x40);
   };
   Harness h("MC349", {}, false, hooks);
@@ -113,7 +113,7 @@ TEST(Nmt, ResetCommunicationUsesTheServerHook) {  // HB-05
   Node::Hooks hooks;
   Harness* hp = nullptr;
   hooks.reset_communication = [&] {
-    reload_communication_objects(*hp->od, std::vector<od::StoredValue>{{0x1017, 0, od::Value{std::int64_t{500}}}});
+    reload_communication_objects(*hp->od, {}, std::vector<od::StoredValue>{{0x1017, 0, od::Value{std::int64_t{500}}}});
   };
   Harness h("MC349", {}, false, hooks);
   hp = &h;
@@ -149,7 +149,7 @@ TEST(Nmt, NodeIdChangeAtResetCommunication) {  // OTH-09, EMCY-01
   Node::Hooks hooks;
   Harness* hp = nullptr;
   std::vector<od::StoredValue> stored;
-  hooks.reset_communication = [&] { reload_communication_objects(*hp->od, stored); };
+  hooks.reset_communication = [&] { reload_communication_objects(*hp->od, {}, stored); };
   Harness h("MC349", {}, false, hooks);
   hp = &h;
   h.boot();

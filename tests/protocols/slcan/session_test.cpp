@@ -200,41 +200,17 @@ TEST(Session, PeerClosedFinishesAfterAnsweringCompleteLines) {
   EXPECT_EQ(s.take_output(), "");
 }
 
-TEST(Session, QueueOverflowClosesOnlyThatSession) {
+TEST(Session, NodeFramesWakeTheAdapter) {
   ScriptedBus bus;
-  SlcanConfig small;
-  small.queue_limit_bytes = 1024;
-  Session& slow = bus.add(small);
-  Session& fast = bus.add();
+  Session& s = bus.add();
   int wakes = 0;
-  slow.set_wake([&] { ++wakes; });
-  const auto hb = frame("t73217F");  // 8 bytes per line
-  for (int i = 0; i < 128; ++i) {
-    slow.deliver(hb, 0ms);
-    fast.deliver(hb, 0ms);
-    (void)fast.take_output();
-  }
-  EXPECT_FALSE(slow.overflowed());  // exactly 1024 bytes queued
-  EXPECT_EQ(wakes, 128);
-  slow.deliver(hb, 0ms);
-  EXPECT_TRUE(slow.overflowed());
-  EXPECT_TRUE(slow.finished());
-  EXPECT_EQ(slow.take_output().size(), 1024u);  // nothing dropped from what was queued
-  fast.deliver(hb, 0ms);
-  EXPECT_EQ(fast.take_output(), "t73217F\r");
-  EXPECT_FALSE(fast.finished());
-}
-
-TEST(Session, BacklogCountsTowardsTheCap) {
-  ScriptedBus bus;
-  SlcanConfig small;
-  small.queue_limit_bytes = 1024;
-  Session& s = bus.add(small);
-  s.set_backlog(1020);
-  s.receive("F\r");  // 4 bytes: exactly at the cap
-  EXPECT_FALSE(s.overflowed());
+  s.set_wake([&] { ++wakes; });
   s.deliver(frame("t73217F"), 0ms);
-  EXPECT_TRUE(s.overflowed());
+  s.deliver(frame("t73217F"), 0ms);
+  EXPECT_EQ(wakes, 2);
+  s.receive("V\r");  // replies are collected after receive(): no wake needed
+  EXPECT_EQ(wakes, 2);
+  EXPECT_EQ(s.take_output(), "t73217F\rt73217F\rV1010\r");
 }
 
 TEST(Session, TraceReportsLinesRepliesAndReasons) {
