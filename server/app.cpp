@@ -277,11 +277,11 @@ void App::start() {
   log_listen("http", "tcp", http_->port());
   log_listen("udp", "udp", udp_->local_endpoint().port());
   spdlog::info("drive IP address {} / {}", active_ip(), active_mask());
+  canopen_->start();
   refgo_->start();
   slcan_->start();
   http_->start();
   start_udp_receive();
-  canopen_->power_on();
   clock_ = std::make_unique<ClockDriver>(io_, [this] { step(); });
   clock_->start();
   spdlog::info("mcemu {} ready", MCEMU_VERSION);

@@ -73,6 +73,11 @@ void CanopenBus::power_on() {
   node_->power_on(now_);
 }
 
+void CanopenBus::start() {
+  power_on();
+  for (int guard = 0; guard < 100000 && node_->state() == canopen::NmtState::initialising; ++guard) step();
+}
+
 void CanopenBus::step(std::chrono::milliseconds dt) {
   now_ += dt;
   broadcast(node_->advance(now_));

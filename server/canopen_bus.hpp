@@ -39,7 +39,11 @@ class CanopenBus {
   CanopenBus& operator=(const CanopenBus&) = delete;
 
   std::unique_ptr<line::StreamSession> make_session();
-  void power_on();  // node power on now: boot-up after 10 ms
+  void power_on();  // node power on now: boot-up after 10 ms (web power cycle)
+  // mcemu start: power on and run the node to its boot-up at once, before the port accepts
+  // connections, so that "ready" means the node answers (the real drive booted long before any
+  // client could connect, slcan-canopen.md §4.4).
+  void start();
   void step(std::chrono::milliseconds dt = std::chrono::milliseconds(1));
 
   canopen::Node& node() { return *node_; }

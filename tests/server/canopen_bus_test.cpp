@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include "drive/model/model_preset.hpp"
+#include "drive/od/model_tables.hpp"
+#include "protocols/canopen/crc16.hpp"
+#include "protocols/slcan/codec.hpp"
 
 namespace mcemu::server {
 namespace {
@@ -120,6 +123,96 @@ TEST(CanopenBus, MalformedInputGetsBelAndTheSessionContinues) {
   auto a = r.bus.make_session();
   a->receive("t63G0\rt6328404160\r\x01\rt63284041600000000000\r");
   EXPECT_EQ(a->take_output(), "\a\a\az\rt5B284B41600040000000\r");
+}
+
+// SDO-22 through the whole pure stack (SLCAN text → session → bus → node → OD and back): a 100 kB
+// block download into a rw string entry of a test dictionary, then a block upload of it. No object
+// of a shipped model can hold 100 kB (slcan-canopen.md §12 SDO-22 names a unit-test dictionary).
+TEST(CanopenBus, HundredKilobytesByBlockTransferAsSlcanLines) {
+  const auto preset = *model::find_preset("MC349");
+  auto entries = od::build_entries(preset);
+  od::EntryInfo domain;
+  domain.index = 0x2F00;
+  domain.type = od::DataType::visible_string;
+  domain.access = od::Access::rw;
+  domain.cls = od::EntryClass::param;
+  domain.factory = od::Value{std::string{}};
+  entries.push_back(domain);
+  od::ObjectDictionary od(std::move(entries));
+  CanopenBus bus(od, {}, {});
+  bus.start();
+  auto s = bus.make_session();
+  const auto request = [&](std::array<std::uint8_t, 8> bytes) {
+    s->receive(slcan::encode_frame(can::Frame{0x632, false, false, 8, bytes}));
+    std::string out = s->take_output();
+    EXPECT_EQ(out.substr(0, 2), "z\r");
+    return out.substr(2);
+  };
+  const auto response = [](const std::string& line) {
+    auto r = slcan::parse_line(std::string_view(line).substr(0, line.size() - 1));
+    return std::get<slcan::Command>(r).frame;
+  };
+  std::vector<std::uint8_t> data(100 * 1024);
+  for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<std::uint8_t>(0x20 + (i * 7919) % 95);
+  const std::uint32_t size = static_cast<std::uint32_t>(data.size());
+  auto init = response(request({0xC6, 0x00, 0x2F, 0x00, static_cast<std::uint8_t>(size),
+                                static_cast<std::uint8_t>(size >> 8), static_cast<std::uint8_t>(size >> 16), 0}));
+  ASSERT_EQ(init.data[0], 0xA4);
+  int blksize = init.data[4];
+  std::size_t pos = 0;
+  int seq = 0;
+  int sub_blocks = 0;
+  while (pos < data.size()) {
+    std::array<std::uint8_t, 8> seg{};
+    ++seq;
+    const std::size_t n = std::min<std::size_t>(7, data.size() - pos);
+    const bool last = pos + n == data.size();
+    seg[0] = static_cast<std::uint8_t>((last ? 0x80 : 0) | seq);
+    std::copy_n(data.begin() + static_cast<std::ptrdiff_t>(pos), n, seg.begin() + 1);
+    pos += n;
+    const std::string out = request(seg);
+    if (last || seq == blksize) {
+      const auto ack = response(out);
+      ASSERT_EQ(ack.data[0], 0xA2);
+      ASSERT_EQ(ack.data[1], seq);
+      blksize = ack.data[2];
+      seq = 0;
+      ++sub_blocks;
+    } else {
+      ASSERT_EQ(out, "");
+    }
+  }
+  EXPECT_GT(sub_blocks, 100);
+  const std::uint16_t crc = canopen::crc16_ccitt(data);
+  const int unused = static_cast<int>((7 - data.size() % 7) % 7);
+  EXPECT_EQ(request({static_cast<std::uint8_t>(0xC1 | (unused << 2)), static_cast<std::uint8_t>(crc & 0xFF),
+                     static_cast<std::uint8_t>(crc >> 8)}),
+            "t5B28A100000000000000\r");
+  EXPECT_EQ(std::get<std::string>(*od.read(0x2F00, 0)), std::string(data.begin(), data.end()));
+  // and back by block upload, blksize 127
+  auto up = response(request({0xA4, 0x00, 0x2F, 0x00, 127}));
+  ASSERT_EQ(up.data[0], 0xC6);
+  std::vector<std::uint8_t> back;
+  std::string out = request({0xA3});
+  for (;;) {
+    ASSERT_EQ(out.size() % 22, 0u);
+    int segments = 0;
+    bool last = false;
+    for (std::size_t at = 0; at < out.size(); at += 22) {
+      const auto seg = response(out.substr(at, 22));
+      ASSERT_EQ(seg.data[0] & 0x7F, ++segments);
+      back.insert(back.end(), seg.data.begin() + 1, seg.data.end());
+      last = (seg.data[0] & 0x80) != 0;
+    }
+    out = request({0xA2, static_cast<std::uint8_t>(segments), 127});
+    if (last) break;
+  }
+  const auto end = response(out);
+  ASSERT_EQ(end.data[0] & 0xE3, 0xC1);
+  back.resize(back.size() - ((end.data[0] >> 2) & 7));
+  EXPECT_EQ(back, data);
+  EXPECT_EQ(end.data[1] | (end.data[2] << 8), crc);
+  EXPECT_EQ(request({0xA1}), "");
 }
 
 }  // namespace
