@@ -6,10 +6,12 @@
 #include <boost/asio/ip/address.hpp>
 #include <ctime>
 
+#include "drive/od/model_tables.hpp"
 #include "persistence/service.hpp"
 #include "persistence/state_dir.hpp"
 #include "persistence/worker_storage.hpp"
 #include "protocols/canopen/comm_reload.hpp"
+#include "protocols/canopen/dynamic_mapping.hpp"
 #include "protocols/line/net/line_server.hpp"
 #include "server/canopen_bus.hpp"
 #include "server/clock_driver.hpp"
@@ -60,6 +62,7 @@ std::string utc_iso8601() { return utc_format("%Y-%m-%dT%H:%M:%SZ"); }
 std::string utc_compact() { return utc_format("%Y%m%dT%H%M%SZ"); }
 
 App::App(asio::io_context& io, Settings settings) : io_(io), settings_(std::move(settings)) {
+  parse_canopen_config();
   build_drive();
   build_canopen();
   bind_listeners();
@@ -69,7 +72,13 @@ App::~App() { shutdown(); }
 
 void App::build_drive() {
   preset_ = make_preset(settings_);
-  od_ = std::make_unique<od::ObjectDictionary>(preset_);
+  if (canopen_config_.dynamic_pdo_mapping) {  // slcan-canopen.md §9.7: rw mapping objects
+    auto entries = od::build_entries(preset_);
+    canopen::make_mapping_dynamic(entries);
+    od_ = std::make_unique<od::ObjectDictionary>(std::move(entries));
+  } else {
+    od_ = std::make_unique<od::ObjectDictionary>(preset_);
+  }
   apply_config_objects(*od_, settings_.config);
   persistence::Image factory = persistence::snapshot(*od_);
 
@@ -138,7 +147,7 @@ void App::bind_listeners() {
     o.flag = flag;
     o.max_clients = max_clients;
     o.close_on_overflow = close_on_overflow;
-    if (close_on_overflow) o.pause_above = slcan_queue_limit_;  // slcan.queue_limit_bytes
+    if (close_on_overflow) o.pause_above = slcan_config_.queue_limit_bytes;
     try {
       return std::make_unique<line::net::LineServer>(io_, tcp::endpoint(address, port), o, std::move(factory));
     } catch (const boost::system::system_error& e) {
@@ -209,25 +218,22 @@ void App::step() { canopen_->step(); }
 
 // ---- CANopen node on the SLCAN port (slcan-canopen.md) ----------------------------------------
 
-void App::build_canopen() {
-  slcan::SlcanConfig slcan_config;
-  canopen::CanopenConfig canopen_config;
+void App::parse_canopen_config() {
   try {
-    slcan_config = slcan::slcan_config_from_json(settings_.config.value("slcan", nlohmann::json::object()));
-    canopen_config = canopen::canopen_config_from_json(settings_.config.value("canopen", nlohmann::json::object()));
+    slcan_config_ = slcan::slcan_config_from_json(settings_.config.value("slcan", nlohmann::json::object()));
+    canopen_config_ = canopen::canopen_config_from_json(settings_.config.value("canopen", nlohmann::json::object()));
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("config: ") + e.what());
   }
-  if (canopen_config.dynamic_pdo_mapping) {
-    throw UsageError("config: canopen.dynamic_pdo_mapping: true is not supported yet (fixed mapping only)");
-  }
-  slcan_queue_limit_ = slcan_config.queue_limit_bytes;
+}
+
+void App::build_canopen() {
   canopen::Node::Hooks hooks;
   hooks.reset_node = [this] { rebuild_ram_image(); };
   hooks.reset_communication = [this] { reload_communication_objects(); };
   hooks.connection_lost = [] { spdlog::warn("canopen: life guarding expired (connectionLost)"); };
   hooks.diagnostic = [](const std::string& text) { spdlog::debug("canopen: {}", text); };
-  canopen_ = std::make_unique<CanopenBus>(*od_, std::move(slcan_config), canopen_config, std::move(hooks));
+  canopen_ = std::make_unique<CanopenBus>(*od_, slcan_config_, canopen_config_, std::move(hooks));
 }
 
 // NMT reset node: the drive part of a power cycle (persistence.md §5, §7): RAM image = factory

@@ -11,6 +11,8 @@
 
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
+#include "protocols/canopen/config.hpp"
+#include "protocols/slcan/config.hpp"
 #include "server/settings.hpp"
 
 namespace mcemu::line {
@@ -62,6 +64,7 @@ class App {
   std::string active_ip() const;
   std::string active_mask() const;
   // CANopen node on the SLCAN port (slcan-canopen.md): bus, and the NMT resets it asks for.
+  void parse_canopen_config();
   void build_canopen();
   void rebuild_ram_image();
   void reload_communication_objects();
@@ -78,8 +81,9 @@ class App {
   std::unique_ptr<web::net::HttpServer> http_;
   std::unique_ptr<boost::asio::ip::udp::socket> udp_;
   std::unique_ptr<ClockDriver> clock_;
+  slcan::SlcanConfig slcan_config_;
+  canopen::CanopenConfig canopen_config_;
   std::unique_ptr<CanopenBus> canopen_;
-  std::size_t slcan_queue_limit_ = 256 * 1024;
   std::array<char, 2048> udp_buffer_{};
   boost::asio::ip::udp::endpoint udp_peer_;
   bool shut_down_ = false;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "protocols/canopen/dynamic_mapping.hpp"
 #include "protocols/slcan/session.hpp"
 
 namespace mcemu::server {
@@ -39,6 +40,7 @@ CanopenBus::CanopenBus(od::ObjectDictionary& od, slcan::SlcanConfig slcan, canop
                        canopen::Node::Hooks hooks)
     : od_(od),
       slcan_(std::move(slcan)),
+      dynamic_mapping_(canopen.dynamic_pdo_mapping ? std::make_unique<canopen::DynamicMapping>(od) : nullptr),
       node_(std::make_unique<canopen::Node>(od, canopen, std::move(hooks))),
       registry_(std::make_shared<Registry>()) {
   registry_->bus = this;

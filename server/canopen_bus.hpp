@@ -11,6 +11,8 @@
 //   the server calls it once per 1 ms drive step, after the drive core's step and after handing
 //   the core's EMCY events to node().emit_emcy().
 // - Frame timestamps (Z1) are simulated ms since power_on().
+// - With canopen.dynamic_pdo_mapping the dictionary must have been built from
+//   canopen::make_mapping_dynamic() entries; the bus then installs the §9.7 write rules.
 #pragma once
 
 #include <chrono>
@@ -26,6 +28,9 @@
 
 namespace mcemu::slcan {
 class Session;
+}
+namespace mcemu::canopen {
+class DynamicMapping;
 }
 
 namespace mcemu::server {
@@ -58,6 +63,7 @@ class CanopenBus {
 
   od::ObjectDictionary& od_;
   slcan::SlcanConfig slcan_;
+  std::unique_ptr<canopen::DynamicMapping> dynamic_mapping_;  // only with canopen.dynamic_pdo_mapping
   std::unique_ptr<canopen::Node> node_;
   std::shared_ptr<Registry> registry_;
   std::chrono::milliseconds now_{0};

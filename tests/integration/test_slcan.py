@@ -355,5 +355,62 @@ class ByteStream(Base):
         self.assertEqual(r.sock.recv(10), b"")  # then mcemu closes
 
 
+class Config(unittest.TestCase):
+    def write_config(self, doc):
+        import tempfile
+        f = tempfile.NamedTemporaryFile("w", suffix=".json", delete=False)
+        json.dump(doc, f)
+        f.close()
+        self.addCleanup(os.unlink, f.name)
+        return f.name
+
+    def test_bad_values_stop_start_up_with_one_line_naming_the_key(self):
+        for doc, key in (({"slcan": {"frame_ack": "Z"}}, "slcan.frame_ack"),
+                         ({"slcan": {"version": "1.0"}}, "slcan.version"),
+                         ({"slcan": {"serial_digits": 6}}, "slcan.serial_digits"),
+                         ({"canopen": {"sdo_block_size": 128}}, "canopen.sdo_block_size"),
+                         ({"canopen": {"sdo_timeout_ms": 0}}, "canopen.sdo_timeout_ms"),
+                         ({"canopen": {"bogus": 1}}, "canopen.bogus")):
+            r = subprocess.run([MCEMU, "--config", self.write_config(doc), "--refgo-port", "0", "--slcan-port", "0",
+                                "--http-port", "0", "--udp-port", "0"], capture_output=True, text=True, timeout=20)
+            self.assertEqual(r.returncode, 2, doc)
+            self.assertEqual(r.stderr.count("\n"), 1, r.stderr)
+            self.assertIn(key, r.stderr)
+
+    def test_frame_ack_version_serial_and_block_size_settings(self):
+        doc = {"slcan": {"frame_ack": "cr", "version": "0042", "serial_digits": 8},
+               "canopen": {"sdo_block_size": 5, "sdo_timeout_ms": 200}}
+        with Mcemu("--config", self.write_config(doc)) as m:
+            r = Raw(m.ports["slcan"])
+            try:
+                self.assertEqual(r.exchange(b"V\rN\r", b"V0042\rN44444444\r"), b"V0042\rN44444444\r")
+                self.assertEqual(r.exchange(b"t6328C67A600004000000\r", b"\rt5B28A47A600005000000\r"),
+                                 b"\rt5B28A47A600005000000\r")
+                # the 200 ms server timeout ends the transfer
+                self.assertEqual(r.read_until(lambda b: len(b) >= 22, timeout=3), b"t5B28807A600000000405\r")
+            finally:
+                r.close()
+
+    def test_dynamic_pdo_mapping(self):  # §9.7 example over TCP (PDO-29)
+        with Mcemu("--config", self.write_config({"canopen": {"dynamic_pdo_mapping": True}})) as m:
+            c = Client(m.ports["slcan"])
+            try:
+                for req, resp in (("23001801B2010080", "6000180100000000"), ("2F001A0000000000", "60001A0000000000"),
+                                  ("23001A0120006460", "60001A0100000000"), ("2F001A0001000000", "60001A0000000000"),
+                                  ("23001801B2010000", "6000180100000000"), ("23001A0110004160", "80001A0130000906")):
+                    self.assertEqual(c.sdo(bytes.fromhex(req)), bytes.fromhex(resp), req)
+                c.nmt(0x01)
+                t1 = c.recv_until(lambda msg: msg.arbitration_id == 0x1B2)
+                self.assertEqual(len(t1.data), 4)
+            finally:
+                c.close()
+        with Mcemu() as m:  # fixed mapping by default
+            c = Client(m.ports["slcan"])
+            try:
+                self.assertEqual(c.sdo(bytes.fromhex("2F001A0000000000")), bytes.fromhex("80001A0002000106"))
+            finally:
+                c.close()
+
+
 if __name__ == "__main__":
     unittest.main()
