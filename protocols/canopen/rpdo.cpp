@@ -1,5 +1,6 @@
 #include "protocols/canopen/rpdo.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "protocols/canopen/od_access.hpp"
@@ -50,23 +51,31 @@ void RpdoSet::length_emcy(State& s, LengthState next) {
 void RpdoSet::apply(int n, const std::vector<std::uint8_t>& data) {
   const auto map = read_mapping(od_, static_cast<std::uint16_t>(0x1600 + n));
   if (!map) return;
+  struct Item {
+    MapEntry entry;
+    std::size_t pos;
+  };
+  std::vector<Item> items;
   std::size_t pos = 0;
   for (const auto& e : *map) {
     const std::size_t len = (e.bits + 7u) / 8u;
     if (pos + len > data.size()) break;
-    if (!e.dummy()) {
-      std::vector<std::byte> bytes(len);
-      for (std::size_t i = 0; i < len; ++i) bytes[i] = static_cast<std::byte>(data[pos + i]);
-      const auto code = od_.write_bytes(e.index, e.sub, bytes, od::SdoLength::indicated, od::Origin::sdo);
-      if (hooks_.after_write) hooks_.after_write();
-      if (code != od::AbortCode::none && hooks_.diagnostic) {
-        char text[96];
-        std::snprintf(text, sizeof text, "RPDO%d: write of %04Xh.%02Xh refused with 0x%08X", n + 1, e.index, e.sub,
-                      od::to_u32(code));
-        hooks_.diagnostic(text);
-      }
-    }
+    if (!e.dummy()) items.push_back({e, pos});
     pos += len;
+  }
+  std::stable_partition(items.begin(), items.end(), [](const Item& i) { return i.entry.index != 0x6040; });
+  for (const auto& [e, at] : items) {
+    const std::size_t len = (e.bits + 7u) / 8u;
+    std::vector<std::byte> bytes(len);
+    for (std::size_t i = 0; i < len; ++i) bytes[i] = static_cast<std::byte>(data[at + i]);
+    const auto code = od_.write_bytes(e.index, e.sub, bytes, od::SdoLength::indicated, od::Origin::sdo);
+    if (hooks_.after_write) hooks_.after_write();
+    if (code != od::AbortCode::none && hooks_.diagnostic) {
+      char text[96];
+      std::snprintf(text, sizeof text, "RPDO%d: write of %04Xh.%02Xh refused with 0x%08X", n + 1, e.index, e.sub,
+                    od::to_u32(code));
+      hooks_.diagnostic(text);
+    }
   }
 }
 

@@ -1,6 +1,9 @@
 // The four receive PDOs (slcan-canopen.md §9.6): mapped values written through the OD with origin
 // `sdo`, at once (254/255) or at the next SYNC (0…240); length errors reported by EMCY 8210h /
 // 8220h once and cleared by EMCY 0000h. Processed only in OPERATIONAL (the node filters). Pure.
+// A PDO is one consistent set of values: the controlword 6040h is written after the other mapped
+// values of the same PDO, so that its set-point edge sees the target of that PDO (RPDO3
+// `t43261F0030750000`, PDO-27; docs/decisions/0004).
 #pragma once
 
 #include <array>

@@ -288,9 +288,9 @@ class Pdo(Base):
         c.send(0x432, bytes.fromhex("1F0030750000"))  # RPDO3: new set-point, target 30000
         ack = c.recv_until(lambda m: m.arbitration_id == 0x1B2 and m.data[1] & 0x10, timeout=2.0)
         self.assertIsNotNone(ack, "set-point acknowledge (bit 12) on TPDO1")
+        self.assertFalse(ack.data[1] & 0x04, "a new set-point clears target reached (bit 10)")
         c.send(0x232, bytes.fromhex("0F00"))
-        reached = c.recv_until(lambda m: m.arbitration_id == 0x1B2 and m.data[1] & 0x04 and not m.data[1] & 0x10,
-                               timeout=20.0)
+        reached = c.recv_until(lambda m: m.arbitration_id == 0x1B2 and m.data[1] & 0x04, timeout=20.0)
         self.assertIsNotNone(reached, "target reached (bit 10) on TPDO1")
         c.send(0x3B2, rtr=True, dlc=6)
         t3 = c.recv_until(lambda m: m.arbitration_id == 0x3B2 and not m.is_remote_frame)

@@ -368,6 +368,20 @@ TEST(Pdo, Rpdo2WritesControlwordAndMode) {  // PDO-20, PDO-26, §9.8
   EXPECT_EQ(h.number(0x6040, 0), 0x0F);
 }
 
+TEST(Pdo, ControlwordIsWrittenAfterTheOtherValuesOfThePdo) {  // PDO-27 precondition
+  Harness h;
+  std::vector<std::int64_t> target_seen_by_controlword;
+  h.od->on_write(0x6040, 0, [&](od::WriteRequest&) {
+    target_seen_by_controlword.push_back(*h.od->read_number(0x607A, 0));
+    return od::AbortCode::none;
+  });
+  h.boot();
+  h.send("t00020132");
+  h.send("t43261F0030750000");
+  h.send("t43261F0078ECFFFF");
+  EXPECT_EQ(target_seen_by_controlword, (std::vector<std::int64_t>{30000, -5000}));
+}
+
 TEST(Pdo, RpdosIgnoredOutsideOperational) {  // PDO-21
   Harness h;
   h.boot();
