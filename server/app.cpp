@@ -283,7 +283,10 @@ void App::start() {
   log_listen("http", "tcp", http_->port());
   log_listen("udp", "udp", udp_->local_endpoint().port());
   spdlog::info("drive IP address {} / {}", active_ip(), active_mask());
-  canopen_->start();
+  // Power on and run the drive to the node's boot-up before the ports accept connections
+  // (docs/decisions/0004): "ready" means the node answers.
+  canopen_->power_on();
+  for (int i = 0; i < 1000 && canopen_->node().state() == canopen::NmtState::initialising; ++i) step();
   refgo_->start();
   slcan_->start();
   http_->start();
