@@ -297,6 +297,28 @@ class Pdo(Base):
         self.assertEqual(struct.unpack_from("<i", bytes(t3.data), 2)[0], 30000)
 
 
+class Emcy(Base):
+    def test_emcy_on_a_fault_and_on_its_reset(self):  # EMCY-02/03 ★ with the life-guarding fault of GRD-04
+        c = self.client()
+        c.download(0x100C, 0, struct.pack("<H", 100))
+        c.download(0x100D, 0, b"\x03")
+        c.nmt(0x01)
+        c.send(0x732, rtr=True, dlc=1)
+        self.assertEqual(bytes(c.recv_until(lambda m: m.arbitration_id == 0x732).data), b"\x05")
+        emcy = c.recv_until(lambda m: m.arbitration_id == 0x0B2, timeout=2.0)
+        if emcy is None:
+            self.skipTest("drive core not merged: connectionLost() raises no fault")
+        self.assertEqual(bytes(emcy.data), bytes.fromhex("3081100000000000"))  # 8130h, register 0x10
+        self.assertEqual(c.upload(0x1001, 0), b"\x10")
+        self.assertEqual(c.upload(0x603F, 0), struct.pack("<H", 0x8130))
+        self.assertEqual(c.upload(0x1003, 1), struct.pack("<I", 0x8130))
+        c.nmt(0x80)  # 1029h.01 = 0 already did this; harmless
+        c.download(0x6040, 0, struct.pack("<H", 0x0080))  # fault reset edge
+        emcy = c.recv_until(lambda m: m.arbitration_id == 0x0B2, timeout=2.0)
+        self.assertEqual(bytes(emcy.data), bytes(8))  # 0000h "error reset"
+        self.assertEqual(c.upload(0x1001, 0), b"\x00")
+
+
 class Store(Base):
     def test_oth01_store_survives_a_restart(self):  # OTH-01 ★
         c = self.client()
