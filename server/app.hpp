@@ -16,10 +16,16 @@
 namespace mcemu::line {
 class StreamSession;
 }
+namespace mcemu::refgo {
+class Interpreter;
+}
+namespace mcemu::udp_debug::net {
+class UdpDebugService;
+}
 namespace mcemu::line::net {
 class LineServer;
 struct PeerInfo;
-}
+}  // namespace mcemu::line::net
 namespace mcemu::web::net {
 class HttpServer;
 }
@@ -50,6 +56,8 @@ class App {
   void shutdown();  // stop accepting, close sessions, finish pending stores, write the plant state
 
   od::ObjectDictionary& od() { return *od_; }
+  // The UDP debug console (udp-debug.md): status lines, notes, power_cycle().
+  udp_debug::net::UdpDebugService& udp_debug() { return *udp_debug_; }
 
  private:
   void build_drive();
@@ -60,6 +68,7 @@ class App {
   void step();
   std::string active_ip() const;
   std::string active_mask() const;
+  std::string script_id() const;
 
   boost::asio::io_context& io_;
   Settings settings_;
@@ -68,13 +77,13 @@ class App {
   std::unique_ptr<persistence::StateDir> state_dir_;
   std::unique_ptr<persistence::WorkerStorage> storage_;
   std::unique_ptr<persistence::Service> persistence_;
+  std::unique_ptr<refgo::Interpreter> refgo_interpreter_;
   std::unique_ptr<line::net::LineServer> refgo_;
   std::unique_ptr<line::net::LineServer> slcan_;
   std::unique_ptr<web::net::HttpServer> http_;
   std::unique_ptr<boost::asio::ip::udp::socket> udp_;
+  std::unique_ptr<udp_debug::net::UdpDebugService> udp_debug_;
   std::unique_ptr<ClockDriver> clock_;
-  std::array<char, 2048> udp_buffer_{};
-  boost::asio::ip::udp::endpoint udp_peer_;
   bool shut_down_ = false;
 };
 
