@@ -11,6 +11,16 @@ constexpr IntRange k_output{1, 4};
 constexpr IntRange k_input{1, 10};
 
 constexpr std::array k_table{
+    CommandRow{"G", ArgShape::optional_int, k_i32, cmd::go_absolute},
+    CommandRow{"GW", ArgShape::optional_int, k_i32, cmd::go_relative},
+    CommandRow{"SM", ArgShape::none, k_any, cmd::stop_motion},
+    CommandRow{"CM", ArgShape::none, k_any, cmd::continue_motion},
+    CommandRow{"PWC", ArgShape::none, k_any, cmd::power_continue},
+    CommandRow{"PQ", ArgShape::none, k_any, cmd::power_quit},
+    CommandRow{"REF", ArgShape::optional_int, k_any, cmd::home},
+    CommandRow{"JP", ArgShape::optional_int, k_u32, cmd::jog_positive},
+    CommandRow{"JN", ArgShape::optional_int, k_u32, cmd::jog_negative},
+    CommandRow{"RR", ArgShape::optional_int, k_i32, cmd::back_and_forth},
     CommandRow{"OR", ArgShape::objects, k_any, cmd::object_read},
     CommandRow{"OW", ArgShape::objects, k_any, cmd::object_write},
     CommandRow{"TP", ArgShape::none, k_any, cmd::tell_position},

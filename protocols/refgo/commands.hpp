@@ -27,4 +27,16 @@ Outcome clear_output(Interpreter& in, const Call& c);
 Outcome repeat_way(Interpreter& in, const Call& c);
 Outcome wait_time(Interpreter& in, const Call& c);
 
+// commands_motion.cpp — G, GW, SM, CM, PWC, PQ, REF, JP, JN, RR (§7.1–§7.7)
+Outcome go_absolute(Interpreter& in, const Call& c);
+Outcome go_relative(Interpreter& in, const Call& c);
+Outcome stop_motion(Interpreter& in, const Call& c);
+Outcome continue_motion(Interpreter& in, const Call& c);
+Outcome power_continue(Interpreter& in, const Call& c);
+Outcome power_quit(Interpreter& in, const Call& c);
+Outcome home(Interpreter& in, const Call& c);
+Outcome jog_positive(Interpreter& in, const Call& c);
+Outcome jog_negative(Interpreter& in, const Call& c);
+Outcome back_and_forth(Interpreter& in, const Call& c);
+
 }  // namespace mcemu::refgo::cmd

@@ -36,6 +36,8 @@ Outcome speed(Interpreter& in, const Call& c) {
   const std::int64_t signed_speed = *vel > 0 ? n : -n;
   const std::int64_t saturated = std::clamp<std::int64_t>(signed_speed, std::numeric_limits<std::int32_t>::min(),
                                                           std::numeric_limits<std::int32_t>::max());
+  // Changing the speed of a running jog is not a new motion command: the jog timer stays armed.
+  Programs::OwnWrites own(in.programs());
   return write(in, 0x60FF, 0, saturated);
 }
 

@@ -46,9 +46,18 @@ std::optional<Outcome> check_argument(const CommandRow& row, const Lexed& line, 
 
 }  // namespace
 
-Interpreter::Interpreter(od::ObjectDictionary& od) : od_(od) {}
+Interpreter::Interpreter(od::ObjectDictionary& od, core::DriveCore& core)
+    : od_(od), core_(core), programs_({core, od, od::Origin::refgo}) {
+  od_.on_change([this](const od::EntryInfo& e, const od::Value&) {
+    const bool motion_object = (e.index == 0x6040 || e.index == 0x6060 || e.index == 0x60FF) && e.sub == 0;
+    if (motion_object && !programs_.own_write()) programs_.stop_all();
+  });
+}
 
-void Interpreter::reset() { vars_ = Variables{}; }
+void Interpreter::reset() {
+  vars_ = Variables{};
+  programs_.stop_all();
+}
 
 std::optional<std::string> Interpreter::execute(std::string_view text, Later later) {
   // The Lexed line must outlive a pending handler, so it is shared with the completion.

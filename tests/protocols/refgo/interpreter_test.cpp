@@ -7,28 +7,26 @@
 
 #include <regex>
 
-#include "drive/model/model_preset.hpp"
+#include "tests/protocols/refgo/refgo_fixture.hpp"
 
 namespace mcemu::refgo {
 namespace {
 
+// Object values are set directly here (internal writes); the core overwrites the ones it owns
+// only at its next step, which these tests do not take.
 class InterpreterTest : public ::testing::Test {
  protected:
-  InterpreterTest() : preset_(*model::find_preset("MC349")), od_(preset_), in_(od_) {}
-
   std::string run(std::string_view line) {
-    auto r = in_.execute(line);
+    auto r = d_.in.execute(line);
     EXPECT_TRUE(r.has_value()) << line;
     return r.value_or("<pending>");
   }
-  void set(std::uint16_t i, std::uint8_t s, std::int64_t v) {
-    ASSERT_EQ(od_.write(i, s, od::Value{v}, od::Origin::internal), od::AbortCode::none);
-  }
-  std::int64_t get(std::uint16_t i, std::uint8_t s) { return od_.number(i, s); }
+  void set(std::uint16_t i, std::uint8_t s, std::int64_t v) { d_.set(i, s, v); }
+  std::int64_t get(std::uint16_t i, std::uint8_t s) { return d_.get(i, s); }
 
-  model::ModelPreset preset_;
-  od::ObjectDictionary od_;
-  Interpreter in_;
+  test::Drive d_;
+  od::ObjectDictionary& od_ = d_.od;
+  Interpreter& in_ = d_.in;
 };
 
 struct Vector {

@@ -5,15 +5,16 @@
 
 #include <gtest/gtest.h>
 
-#include "drive/model/model_preset.hpp"
 #include "protocols/refgo/interpreter.hpp"
+#include "tests/protocols/refgo/refgo_fixture.hpp"
 
 namespace mcemu::refgo {
 namespace {
 
 class SessionTest : public ::testing::Test {
  protected:
-  SessionTest() : preset_(*model::find_preset("MC349")), od_(preset_), in_(od_) {
+  // Fixed status values (the core would only change them at its next step, never taken here).
+  SessionTest() {
     od_.write(0x6064, 0, od::Value{std::int64_t{-7200}}, od::Origin::internal);
     od_.write(0x6041, 0, od::Value{std::int64_t{0x0427}}, od::Origin::internal);
   }
@@ -33,9 +34,9 @@ class SessionTest : public ::testing::Test {
     return out;
   }
 
-  model::ModelPreset preset_;
-  od::ObjectDictionary od_;
-  Interpreter in_;
+  test::Drive d_;
+  od::ObjectDictionary& od_ = d_.od;
+  Interpreter& in_ = d_.in;
 };
 
 struct StreamCase {
