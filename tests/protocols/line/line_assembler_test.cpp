@@ -46,22 +46,25 @@ TEST_P(Assembler, SameResultForEverySplit) {
   EXPECT_EQ(run(c, 1), c.lines);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Rules, Assembler,
-    ::testing::Values(
-        Case{"cr", "TP\r", {{"TP", false}}},
-        Case{"lf", "TP\n", {{"TP", false}}},
-        Case{"crlf_is_one", "TP\r\nTS\r\n", {{"TP", false}, {"TS", false}}},
-        Case{"lfcr_is_two", "O\n\r", {{"O", false}, {"", false}}},
-        Case{"empty_lines", "\r\r", {{"", false}, {"", false}}},
-        Case{"unterminated_rest_kept_back", "TP\rTS", {{"TP", false}}},
-        Case{"overlong", "0123456789AB\rX\r", {{"0123456789", true}, {"X", false}}},
-        Case{"exactly_max", "0123456789\r", {{"0123456789", false}}},
-        Case{"controls_removed_before_counting", "01234\x01\x02\x03" "56789\r", {{"0123456789", false}}, 10,
-             drop_controls},
-        Case{"tab_becomes_space", "OW\t1\r", {{"OW 1", false}}, 10, drop_controls},
-        Case{"binary_kept_by_keep_all", std::string("t\x00\xff\r", 4), {{std::string("t\x00\xff", 3), false}}}),
-    [](const auto& p) { return std::string(p.param.name); });
+INSTANTIATE_TEST_SUITE_P(Rules, Assembler,
+                         ::testing::Values(Case{"cr", "TP\r", {{"TP", false}}}, Case{"lf", "TP\n", {{"TP", false}}},
+                                           Case{"crlf_is_one", "TP\r\nTS\r\n", {{"TP", false}, {"TS", false}}},
+                                           Case{"lfcr_is_two", "O\n\r", {{"O", false}, {"", false}}},
+                                           Case{"empty_lines", "\r\r", {{"", false}, {"", false}}},
+                                           Case{"unterminated_rest_kept_back", "TP\rTS", {{"TP", false}}},
+                                           Case{"overlong", "0123456789AB\rX\r", {{"0123456789", true}, {"X", false}}},
+                                           Case{"exactly_max", "0123456789\r", {{"0123456789", false}}},
+                                           Case{"controls_removed_before_counting",
+                                                "01234\x01\x02\x03"
+                                                "56789\r",
+                                                {{"0123456789", false}},
+                                                10,
+                                                drop_controls},
+                                           Case{"tab_becomes_space", "OW\t1\r", {{"OW 1", false}}, 10, drop_controls},
+                                           Case{"binary_kept_by_keep_all",
+                                                std::string("t\x00\xff\r", 4),
+                                                {{std::string("t\x00\xff", 3), false}}}),
+                         [](const auto& p) { return std::string(p.param.name); });
 
 TEST(AssemblerLimits, MemoryStaysBoundedWithoutTerminator) {
   LineAssembler a(64, keep_all);
