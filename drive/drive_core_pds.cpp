@@ -424,6 +424,7 @@ void DriveCore::after_homing() {
   if (!hm_.take_reference_set()) return;
   pp_.reset_reference();
   plant_.clear_integrator();
+  write_actuals();  // the position changes inside the call that found the reference (§9.3)
 }
 
 }  // namespace mcemu::core
