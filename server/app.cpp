@@ -12,9 +12,11 @@
 #include "protocols/line/net/line_server.hpp"
 #include "protocols/refgo/interpreter.hpp"
 #include "protocols/refgo/session.hpp"
+#include "protocols/udp_debug/messages.hpp"
 #include "protocols/udp_debug/net/udp_debug_service.hpp"
 #include "server/clock_driver.hpp"
 #include "server/drive_image.hpp"
+#include "server/plant_settings.hpp"
 #include "web/api/router.hpp"
 #include "web/net/http_server.hpp"
 
@@ -137,13 +139,23 @@ void App::build_drive() {
     }
   }
 
+  try {
+    core_ = std::make_unique<core::DriveCore>(preset_, *od_, plant_config_from_json(settings_.config));
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("invalid plant configuration in --config: ") + e.what());
+  }
+
   storage_ = std::make_unique<persistence::WorkerStorage>(io_, state_dir_->state_file(),
                                                           persistence::write_options_from_environment());
   persistence::ServiceHooks hooks;
   hooks.now_utc = utc_iso8601;
+  hooks.operation_enabled = [this] { return core_->state() == core::PdsState::operation_enabled; };
+  hooks.home_offset_inc = [this] { return core_->home_offset_inc(); };
+  hooks.after_restore = [this] { core_->reload_parameters(); };
   persistence_ = std::make_unique<persistence::Service>(*od_, preset_.name, MCEMU_VERSION, std::move(factory),
                                                         std::move(on_file), *storage_, std::move(hooks));
-  refgo_interpreter_ = std::make_unique<refgo::Interpreter>(*od_);
+  refgo_interpreter_ = std::make_unique<refgo::Interpreter>(*od_, *core_);
+  core_->power_on();
 }
 
 std::string App::active_ip() const {
@@ -242,8 +254,23 @@ std::unique_ptr<line::StreamSession> App::make_slcan_session(const line::net::Pe
   return std::make_unique<SilentSession>();
 }
 
-// One simulation step of 1 ms (drive-core.md §2), called by the clock driver.
-void App::step() {}
+// One simulation step of 1 ms (drive-core.md §2), called by the clock driver; the RefGo programs
+// (jog timer, Back & Forth) follow in the same drive time.
+void App::step() {
+  core_->step();
+  refgo_interpreter_->on_step();
+  on_core_events();
+}
+
+void App::on_core_events() {
+  for (const auto& e : core_->drain_events()) {
+    if (const auto* f = std::get_if<core::FaultRaised>(&e)) {
+      udp_debug_->note(udp_debug::fault_text(f->code));
+    } else if (std::holds_alternative<core::FaultResetDone>(e)) {
+      udp_debug_->note("fault cleared");
+    }
+  }
+}
 
 // The UDP debug console starts with the start-up block of this power-up (udp-debug.md §4.1).
 void App::start_udp_receive() {

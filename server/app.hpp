@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "drive/drive_core.hpp"
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
 #include "server/settings.hpp"
@@ -56,6 +57,7 @@ class App {
   void shutdown();  // stop accepting, close sessions, finish pending stores, write the plant state
 
   od::ObjectDictionary& od() { return *od_; }
+  core::DriveCore& drive_core() { return *core_; }
   // The UDP debug console (udp-debug.md): status lines, notes, power_cycle().
   udp_debug::net::UdpDebugService& udp_debug() { return *udp_debug_; }
 
@@ -66,6 +68,7 @@ class App {
   std::unique_ptr<line::StreamSession> make_refgo_session(const line::net::PeerInfo& peer);
   std::unique_ptr<line::StreamSession> make_slcan_session(const line::net::PeerInfo& peer);
   void step();
+  void on_core_events();
   std::string active_ip() const;
   std::string active_mask() const;
   std::string script_id() const;
@@ -74,6 +77,7 @@ class App {
   Settings settings_;
   model::ModelPreset preset_;
   std::unique_ptr<od::ObjectDictionary> od_;
+  std::unique_ptr<core::DriveCore> core_;
   std::unique_ptr<persistence::StateDir> state_dir_;
   std::unique_ptr<persistence::WorkerStorage> storage_;
   std::unique_ptr<persistence::Service> persistence_;

@@ -15,9 +15,7 @@ namespace {
 namespace helpers = core::helpers;
 
 // device_state from a Go… helper means "AUTOENABLE did not reach OE": no motion, no error.
-Outcome motion_result(od::AbortCode c) {
-  return c == od::AbortCode::device_state ? Outcome::ok() : Outcome::from(c);
-}
+Outcome motion_result(od::AbortCode c) { return c == od::AbortCode::device_state ? Outcome::ok() : Outcome::from(c); }
 
 std::int64_t read(Interpreter& in, std::uint16_t index, std::uint8_t sub = 0) {
   const auto r = in.od().read_number(index, sub);
@@ -96,9 +94,9 @@ Outcome home(Interpreter& in, const Call& c) {
   if (const auto code = in.od().write(0x6098, 0, od::Value{*c.arg}, d.origin); code != od::AbortCode::none) {
     return Outcome::error(code);
   }
-  return motion_result(helpers::go_home(d, static_cast<std::int8_t>(*c.arg), static_cast<std::uint32_t>(read(in, 0x6099, 1)),
-                                        static_cast<std::uint32_t>(read(in, 0x609A)),
-                                        static_cast<std::int32_t>(read(in, 0x607C))));
+  return motion_result(
+      helpers::go_home(d, static_cast<std::int8_t>(*c.arg), static_cast<std::uint32_t>(read(in, 0x6099, 1)),
+                       static_cast<std::uint32_t>(read(in, 0x609A)), static_cast<std::int32_t>(read(in, 0x607C))));
 }
 
 Outcome jog_positive(Interpreter& in, const Call& c) { return jog(in, c, true); }

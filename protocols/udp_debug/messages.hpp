@@ -2,6 +2,7 @@
 // Pure formatting. Note the line endings: start-up line 2 ends "\n\r", the others "\r\n".
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -17,5 +18,7 @@ std::vector<std::string> upload_messages(std::string_view script_id);
 
 // An emulator note (§4.7): "mcemu: <text>\r\n".
 std::string note(std::string_view text);
+// The text of a fault note: "fault 7121h ERROR_STROKE" (EMCY code names of web.md §4 / MAN 6.4).
+std::string fault_text(std::uint16_t emcy_code);
 
 }  // namespace mcemu::udp_debug

@@ -129,7 +129,7 @@ TEST(Motion, JogSpeedFollowsSpAndAnotherCommandDisarmsTheTimer) {
   EXPECT_EQ(d.run("SP500"), "SP500\r\n>");
   EXPECT_EQ(d.get(0x60FF), -500);
   EXPECT_TRUE(d.in.programs().jog_stop_due_ms());  // SP keeps the timer
-  EXPECT_EQ(d.run("JP"), "JP\r\n>");                 // no time: jog until another command
+  EXPECT_EQ(d.run("JP"), "JP\r\n>");               // no time: jog until another command
   EXPECT_FALSE(d.in.programs().jog_stop_due_ms());
   EXPECT_EQ(d.get(0x60FF), 500);
   d.step(2500);

@@ -187,6 +187,9 @@ TEST(Pack, WholeMessagesUpTo1024AndPiecesOfLongOnes) {
 
 TEST(Messages, NoteAndUpload) {
   EXPECT_EQ(note("fault cleared"), "mcemu: fault cleared\r\n");
+  EXPECT_EQ(note(fault_text(0x7121)), "mcemu: fault 7121h ERROR_STROKE\r\n");
+  EXPECT_EQ(fault_text(0xFFF2), "fault FFF2h ERROR_HW_SW_ENABLE");
+  EXPECT_EQ(fault_text(0x1234), "fault 1234h UNKNOWN");
   const auto up = upload_messages("(empty)");
   ASSERT_EQ(up.size(), 2U);
   EXPECT_EQ(up[1], "code: upload complete, script id: (empty)\r\n");
