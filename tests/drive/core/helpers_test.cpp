@@ -123,16 +123,33 @@ TEST(Helpers, StopAndContinueMotion) {
   EXPECT_EQ(f.d.read(0x606B), 1000) << "PV tracks 60FFh again";
 }
 
+TEST(Helpers, ScriptEmcyChangesNothing) {
+  Fixture f;
+  h::send_emcy_msg(f.ref, 3);
+  f.d.collect();
+  const auto e = f.d.of<Emcy>();
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_EQ(e[0].bytes(), (std::array<std::uint8_t, 8>{0x9B, 0x50, 0x00, 0x03, 0, 0, 0, 0}));
+  EXPECT_EQ(f.d.read(0x1001), 0);
+  EXPECT_EQ(f.d.read(0x603F), 0);
+  EXPECT_EQ(f.d.read(0x1003, 0), 0);
+  EXPECT_EQ(f.d.core.state(), PdsState::switch_on_disabled);
+}
+
 TEST(Helpers, StoreAndFactoryResetAreOdWrites) {
   Fixture f;
-  int completions = 0;
+  od::Done taken;
   f.d.od.on_write(0x1010, 1, [&](od::WriteRequest& req) {
     EXPECT_EQ(std::get<std::int64_t>(req.value), 0x65766173);
-    *req.done = [&](od::AbortCode) { ++completions; };
+    taken = std::move(*req.done);
     return od::AbortCode::pending;
   });
-  EXPECT_EQ(h::store_permanent(f.ref, [&](od::AbortCode c) { EXPECT_EQ(c, od::AbortCode::none); }),
+  int completions = 0;
+  EXPECT_EQ(h::store_permanent(f.ref, [&](od::AbortCode c) { completions += c == od::AbortCode::none; }),
             od::AbortCode::pending);
+  ASSERT_TRUE(taken);
+  taken(od::AbortCode::none);
+  EXPECT_EQ(completions, 1) << "the caller's completion is passed on";
   EXPECT_EQ(h::reset_to_factory(f.ref), od::AbortCode::none);
   EXPECT_EQ(f.d.read(0x1011, 1), 0x64616F6C);
 }
