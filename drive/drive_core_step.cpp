@@ -44,7 +44,11 @@ void DriveCore::enter_mode(std::int8_t mode) {
     case 3: pv_.enter(); break;
     case 6: hm_.enter(); break;
     default:
-      if (ctx_.gen.active()) ctx_.gen.start_stop(ctx_.ramp_decel_6084());
+      if (ctx_.gen.active()) {
+        ctx_.gen.start_stop(ctx_.ramp_decel_6084());
+      } else {
+        ctx_.gen.reset(ctx_.gen.out().p);
+      }
       break;
   }
 }
