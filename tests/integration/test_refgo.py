@@ -388,6 +388,20 @@ class ClientCompatibility(unittest.TestCase):
             self.assertEqual(first_value("TP"), 1000)
             s.close()
 
+    @unittest.skipUnless(os.environ.get("MCEMU_MCTK_DIR"), "MCEMU_MCTK_DIR names no movingcap-code-suite checkout")
+    def test_unmodified_mctk_refgo_client(self):
+        # §15.3, second half: Fullmo's own RefgoClient, when a checkout is provided (not committed).
+        import sys
+        sys.path.insert(0, os.path.join(os.environ["MCEMU_MCTK_DIR"], "testing"))
+        from mctk.refgo import RefgoClient  # noqa: E402 - third-party code found at run time
+        with Mcemu() as m, RefgoClient("127.0.0.1", port=m.ports["refgo"]) as drive:
+            self.assertTrue(drive.write_object(0x3410, 1, 4242))
+            self.assertEqual(drive.read_object(0x3410, 1), 4242)
+            self.assertFalse(drive.write_object(0x6041, 0, 5))
+            self.assertIsNone(drive.read_object(0x1234, 0))
+            self.assertEqual(drive.tell_status(), 0)
+            self.assertIsInstance(drive.tell_position(), int)
+
     def test_xenax_style_client(self):
         # §15.4: XFATE's SendCommand / ProcessEchoCommand pattern.
         with Mcemu() as m:
