@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "drive/drive_core.hpp"
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
 #include "protocols/canopen/config.hpp"
@@ -17,6 +18,12 @@
 
 namespace mcemu::line {
 class StreamSession;
+}
+namespace mcemu::refgo {
+class Interpreter;
+}
+namespace mcemu::udp_debug::net {
+class UdpDebugService;
 }
 namespace mcemu::line::net {
 class LineServer;
@@ -53,6 +60,9 @@ class App {
   void shutdown();  // stop accepting, close sessions, finish pending stores, write the plant state
 
   od::ObjectDictionary& od() { return *od_; }
+  core::DriveCore& drive_core() { return *core_; }
+  // The UDP debug console (udp-debug.md): status lines, notes, power_cycle().
+  udp_debug::net::UdpDebugService& udp_debug() { return *udp_debug_; }
 
  private:
   void build_drive();
@@ -61,8 +71,10 @@ class App {
   std::unique_ptr<line::StreamSession> make_refgo_session(const line::net::PeerInfo& peer);
   std::unique_ptr<line::StreamSession> make_slcan_session(const line::net::PeerInfo& peer);
   void step();
+  void on_core_events();
   std::string active_ip() const;
   std::string active_mask() const;
+  std::string script_id() const;
   // CANopen node on the SLCAN port (slcan-canopen.md): bus, and the NMT resets it asks for.
   void parse_canopen_config();
   void build_canopen();
@@ -73,19 +85,21 @@ class App {
   Settings settings_;
   model::ModelPreset preset_;
   std::unique_ptr<od::ObjectDictionary> od_;
+  std::unique_ptr<core::DriveCore> core_;
   std::unique_ptr<persistence::StateDir> state_dir_;
   std::unique_ptr<persistence::WorkerStorage> storage_;
   std::unique_ptr<persistence::Service> persistence_;
+  std::unique_ptr<refgo::Interpreter> refgo_interpreter_;
   std::unique_ptr<line::net::LineServer> refgo_;
   std::unique_ptr<line::net::LineServer> slcan_;
   std::unique_ptr<web::net::HttpServer> http_;
   std::unique_ptr<boost::asio::ip::udp::socket> udp_;
+  // shared: RefGo sessions that outlive the App (in the io_context's handlers) hold weak references
+  std::shared_ptr<udp_debug::net::UdpDebugService> udp_debug_;
   std::unique_ptr<ClockDriver> clock_;
   slcan::SlcanConfig slcan_config_;
   canopen::CanopenConfig canopen_config_;
   std::unique_ptr<CanopenBus> canopen_;
-  std::array<char, 2048> udp_buffer_{};
-  boost::asio::ip::udp::endpoint udp_peer_;
   bool shut_down_ = false;
 };
 

@@ -1,0 +1,100 @@
+// State shared by the drive core and its modes: the OD handles the core resolves once, the current
+// scaling, the demand generator, the actual values of the last step and the event queue
+// (drive-core.md §1.3). Owned by DriveCore; modes hold a reference. Not a shadow copy of the OD:
+// parameters are read from the OD through the handles when they are needed.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "drive/events.hpp"
+#include "drive/generator.hpp"
+#include "drive/model/model_preset.hpp"
+#include "drive/od/dictionary.hpp"
+#include "drive/plant_config.hpp"
+#include "drive/scaling.hpp"
+
+namespace mcemu::core {
+
+// Handles of the entries the core reads and writes (§14). Entries that exist on every model are
+// plain handles; the others are optional.
+struct Handles {
+  od::Handle controlword, statusword, mode, mode_display;
+  od::Handle pos_demand_user, pos_actual_inc, pos_actual_user, vel_demand, vel_actual, current;
+  od::Handle pos_demand_inc, inputs, error_register, mfr_status, error_code;
+  std::array<od::Handle, 5> history;  // 1003h.00 … .04
+  od::Handle abort_connection_option, stroke_option, stroke_position, stroke_velocity;
+  od::Handle quick_stop_option, shutdown_option, disable_option, halt_option, fault_option;
+  od::Handle pos_window, pos_window_time, vel_window, vel_window_time, vel_threshold, vel_threshold_time;
+  od::Handle max_current, target_pos, home_offset, limit_min, limit_max, polarity;
+  od::Handle max_profile_vel, max_motor_speed, profile_vel, profile_acc, profile_dec, quick_stop_dec;
+  od::Handle enc_inc, enc_rev, gear_motor, gear_shaft, feed, feed_shaft;
+  od::Handle homing_method, homing_speed_switch, homing_speed_zero, homing_acc;
+  od::Handle max_acc, max_dec, pos_option, target_vel, supported_modes;
+  od::Handle block_count_max, block_speed, temperature, torque_acc, torque_dec, torque_stall, block_mask;
+  od::Handle virtual_inputs, outputs;
+  std::array<od::Handle, 10> input_function;  // 3511h … 351Ah .01
+  std::optional<od::Handle> following_error, jerk, switch_select, motor_weight, payload;
+
+  // Throws std::out_of_range when an entry every model has is missing (a broken dictionary).
+  static Handles resolve(const od::ObjectDictionary& od);
+};
+
+// Soft position limits 607Dh (§7.10): on when not both 0 and min < max.
+struct SoftLimits {
+  bool on = false;
+  std::int64_t min_user = 0;
+  std::int64_t max_user = 0;
+};
+
+struct CoreContext {
+  CoreContext(od::ObjectDictionary& dict, const model::ModelPreset& model, const PlantParams& plant)
+      : od(dict), preset(model), params(plant), h(Handles::resolve(dict)), gen(model.is_rabbit()) {}
+
+  od::ObjectDictionary& od;
+  const model::ModelPreset& preset;
+  const PlantParams& params;
+  Handles h;
+  Scaling scaling;
+  Generator gen;
+  std::uint64_t time_ms = 0;
+  std::int64_t home_offset_inc = 0;
+  std::int64_t actual_raw_inc = 0;   // round(plant position), raw frame
+  double actual_velocity_inc_s = 0;  // displacement of the last step / 1 ms
+  std::uint32_t inputs = 0;          // 60FDh
+  std::vector<Event> events;
+
+  std::int64_t num(od::Handle handle) const { return od.number(handle); }
+  void emit(Event e) { events.push_back(std::move(e)); }
+  bool rabbit() const { return preset.is_rabbit(); }
+
+  // 6063h frame ↔ raw plant frame
+  std::int64_t actual_inc() const { return actual_raw_inc - home_offset_inc; }
+  std::int64_t demand_inc() const;  // 60FCh = round(p_demand) − home offset
+  std::int64_t raw_of(std::int64_t inc) const { return inc + home_offset_inc; }
+  // unwrapped user position of an increment count in the 6063h frame
+  std::int64_t user_of(std::int64_t inc) const { return scaling.to_user(inc); }
+
+  // converted parameters (inc/s, inc/s²)
+  double accel_of(od::Handle handle) const;
+  double profile_accel() const;     // min(6083h, 60C5h)
+  double profile_decel() const;     // min(6084h, 60C6h); RABBIT profile segments use profile_accel()
+  double ramp_decel_6084() const;   // stop ramps "with 6084h" (limited by 60C6h)
+  double quick_stop_decel() const;  // 6085h (not limited, §4.5)
+  double halt_decel() const;        // 605Dh: 1 → 6084h, 2/3/4 → 6085h, 0 → as 1
+  double speed_limit() const;       // min(607Fh, 6080h)
+  double jerk() const;              // 60A4h (RABBIT), 0 = unlimited
+
+  SoftLimits soft_limits() const;
+  bool rotary_operation() const { return (num(h.pos_option) & 0xC0) != 0; }
+  // Soft limits in raw increments, ordered, when linear operation and limits on.
+  std::optional<std::pair<std::int64_t, std::int64_t>> limits_raw() const;
+  // Actual position outside active linear soft limits.
+  bool outside_limits() const;
+  bool input_level(int n) const { return n >= 1 && n <= 10 && (inputs & (1u << (15 + n))) != 0; }
+};
+
+}  // namespace mcemu::core

@@ -1,0 +1,196 @@
+// The simulated MovingCap drive (drive-core.md): CiA 402 state machine, profile position /
+// velocity / homing on a physical plant, scaling, soft limits, faults and EMCY.
+//
+// Contract:
+// - Pure and single-threaded: no clock, I/O, threads, logging or randomness. Time moves only by
+//   step() / advance() in 1 ms steps, in the order of §2.4.
+// - The OD is the only store (§1.3). The constructor registers the core's write and read hooks
+//   (§14) on the dictionary, which must outlive the core; the core is not powered until
+//   power_on(). A write of 6040h acts inside the write call (§2.5); 6041h is current when it returns.
+// - Events (§13) queue up until drain_events(); the inputs observer is called synchronously on
+//   every change of 60FDh and must not write objects.
+// - Not copyable or movable (hooks capture `this`).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "drive/core_context.hpp"
+#include "drive/core_types.hpp"
+#include "drive/events.hpp"
+#include "drive/faults.hpp"
+#include "drive/model/model_preset.hpp"
+#include "drive/modes/homing.hpp"
+#include "drive/modes/profile_position.hpp"
+#include "drive/modes/profile_velocity.hpp"
+#include "drive/od/dictionary.hpp"
+#include "drive/plant.hpp"
+#include "drive/plant_config.hpp"
+#include "drive/thermal.hpp"
+
+namespace mcemu::core {
+
+using InputsObserver = std::function<void(std::uint32_t old_60fd, std::uint32_t new_60fd)>;
+
+class DriveCore {
+ public:
+  // Throws std::invalid_argument for an invalid plant configuration (resolve_plant()).
+  DriveCore(const model::ModelPreset& preset, od::ObjectDictionary& od, const PlantConfig& plant_config = {});
+  DriveCore(const DriveCore&) = delete;
+  DriveCore& operator=(const DriveCore&) = delete;
+
+  // ---- lifecycle and time (§2, §4.4)
+  void power_on(const PowerOnState& state = {});  // transition 0; the OD image is loaded before
+  void reload_parameters();                       // recompute caches after a bulk OD load
+  void step();                                    // one 1 ms step
+  void step(std::uint64_t n);                     // n steps
+  void advance(std::chrono::milliseconds dt) { step(static_cast<std::uint64_t>(dt.count())); }
+  std::uint64_t time_ms() const { return ctx_.time_ms; }
+
+  // ---- queries, no side effects
+  PdsState state() const { return state_; }
+  bool powered() const { return powered_; }
+  // the plant's position (without measurement noise), for the plant-state file
+  std::int64_t raw_position_inc() const;
+  std::int64_t home_offset_inc() const { return ctx_.home_offset_inc; }
+  std::int64_t last_internal_target_inc() const;
+  std::optional<std::int64_t> last_setpoint_target_inc() const { return pp_.last_setpoint_target_inc(); }
+  bool torque_on() const { return torque_on_; }
+  double temperature_c() const;   // as the monitors and 3401h.0Ah see it
+  double supply_voltage() const;  // as the monitors see it
+  double i2t_energy() const { return thermal_.energy(); }
+  double i2t_energy_max() const { return thermal_.energy_max(); }
+  bool injected(FaultCause cause) const { return (injected_ >> static_cast<int>(cause)) & 1u; }
+  const PlantParams& plant_params() const { return params_; }
+
+  // ---- commands used by the helpers (§12)
+  void apply_mode_switch_now();      // §6.3 at once
+  void resume_interrupted_motion();  // CM / ContinueMotion
+  od::AbortCode set_home_here();     // §9.3
+
+  // ---- fault and environment injection (§11.9)
+  void inject(FaultCause cause);
+  void clear(FaultCause cause);
+  void set_supply_voltage(double volts);
+  void set_ambient_temperature(double deg_c);
+  void set_external_load(double nm_or_n);
+  ObstacleId add_obstacle(const Obstacle& obstacle);
+  void remove_obstacle(ObstacleId id);
+  bool set_external_input_level(int input, bool high);  // false: no such pin on the model
+  void connection_lost();                               // §11.6
+  // §11.8 mcdrive.SendEmcyMsg: an EMCY with bytes code, register, error number (u32 LE), 0.
+  // Changes no object and no state.
+  void send_script_emcy(std::uint32_t error_number, std::uint8_t error_register = 0, std::uint16_t error_code = 0x509B);
+
+  // ---- inputs (§10.9)
+  void recompute_inputs();
+  void set_inputs_observer(InputsObserver observer) { observer_ = std::move(observer); }
+
+  // ---- events (§13)
+  std::vector<Event> drain_events();
+
+ private:
+  enum class Pending : std::uint8_t { none, to_switched_on, to_ready, to_disabled, to_fault };
+
+  // drive_core.cpp
+  void install_hooks();
+  void update_scaling();
+  void update_inertia_ctrl(std::optional<std::int64_t> weight, std::optional<std::int64_t> payload);
+  // drive_core_pds.cpp
+  od::AbortCode on_controlword(std::uint16_t cw, std::uint16_t prev);
+  void apply_state_command(std::uint16_t cw);
+  void set_state(PdsState to, int transition);
+  void enter_operation_enabled(int transition);
+  void leave_operation_enabled();
+  void set_torque(bool on);
+  void begin_stop(Pending pending, double decel);
+  void quick_stop();
+  void finish_pending();
+  bool switch_on_allowed();
+  bool sw_enable_ok() const;
+  bool hw_enable_ok() const;
+  void raise(FaultCause cause);
+  void enter_fault_reaction(bool torque_off);
+  void try_fault_reset();
+  bool reset_allowed(FaultCause cause) const;
+  void record_history(std::uint16_t code);
+  void check_conditions();
+  void check_enable_loss();
+  void timed_transitions();
+  void on_block_detected(bool masked);
+  void stroke_reaction();
+  void after_homing();
+  // drive_core_step.cpp
+  void mode_switch();
+  void enter_mode(std::int8_t mode);
+  void leave_mode(std::int8_t mode);
+  void generate();
+  void run_plant();
+  void monitors();
+  void thermal_step();
+  std::int64_t next_noise();
+  void finish_write();
+  // drive_core_outputs.cpp
+  std::uint32_t compute_inputs() const;
+  void publish_inputs(bool report);
+  void write_actuals();
+  void write_velocity_objects();
+  std::uint16_t compose_statusword() const;
+  void update_statusword();
+  void install_read_hooks();
+  double torque_limit() const;
+  int motion_phase() const;  // 0 constant/standstill, 1 accelerating, 2 decelerating
+
+  model::ModelPreset preset_;
+  PlantParams params_;
+  CoreContext ctx_;
+  Plant plant_;
+  Thermal thermal_;
+  ProfilePosition pp_;
+  ProfileVelocity pv_;
+  Homing hm_;
+
+  bool powered_ = false;
+  PdsState state_ = PdsState::not_ready_to_switch_on;
+  bool torque_on_ = false;
+  Pending pending_ = Pending::none;
+  int pending_transition_ = 0;
+  int quick_stop_option_ = 1;
+  bool service_move_ = false;  // stroke option 1–3 motion owns the generator
+  bool stroke_hold_ = false;   // after a stroke-option stop: hold until a new command
+  std::int8_t mode_ = 0;       // 6061h
+  std::uint16_t statusword_ = 0;
+  bool reached_bit_ = false;
+  bool limit_bit_ = false;
+  WindowTimer hold_timer_;  // mode 0 held-position rule
+  bool hold_reached_ = false;
+  Kinematics demand_prev_;
+
+  // environment
+  std::optional<double> supply_set_;
+  double ambient_c_ = 25;
+  std::array<bool, 11> external_level_{};
+  std::uint32_t injected_ = 0;  // bit = FaultCause
+  std::uint32_t deferred_ = 0;  // event causes injected before the second step
+  int uv_count_ = 0;
+  int ov_count_ = 0;
+  bool first_step_ = false;
+
+  // monitors
+  int block_count_ = 0;
+  int following_count_ = 0;
+  PlantOutput plant_out_;
+  std::int64_t current_permille_ = 0;
+  double prev_position_inc_ = 0;
+  std::int64_t prev_reported_inc_ = 0;
+  std::uint64_t noise_state_ = 0;
+  double dc_link_v_ = 0;
+  std::uint64_t fault_reset_prev_ = 0;
+
+  InputsObserver observer_;
+};
+
+}  // namespace mcemu::core

@@ -1,0 +1,91 @@
+// Test harness for the drive core: one preset, its dictionary and a powered DriveCore, with short
+// helpers for SDO-like writes and reads. Everything runs in virtual time.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "drive/drive_core.hpp"
+#include "drive/model/model_preset.hpp"
+#include "drive/od/dictionary.hpp"
+
+namespace mcemu::core::test {
+
+inline model::ModelPreset preset_of(const std::string& name) {
+  auto p = model::find_preset(name);
+  if (!p) throw std::invalid_argument("no preset " + name);
+  return *p;
+}
+
+struct Drive {
+  explicit Drive(const std::string& model = "MC349", const PlantConfig& config = {}, bool power = true)
+      : preset(preset_of(model)), od(preset), core(preset, od, config) {
+    if (power) core.power_on();
+  }
+
+  // An SDO-origin write; returns the abort code.
+  od::AbortCode write(std::uint16_t index, std::uint8_t sub, std::int64_t value) {
+    const auto c = od.write(index, sub, od::Value{value}, od::Origin::sdo);
+    collect();
+    return c;
+  }
+  // A write that must succeed.
+  void set(std::uint16_t index, std::uint8_t sub, std::int64_t value) {
+    const auto c = write(index, sub, value);
+    ASSERT_EQ(c, od::AbortCode::none) << std::hex << index << "." << int(sub) << " := " << std::dec << value;
+  }
+  void cw(std::uint16_t value) { set(0x6040, 0, value); }
+  std::int64_t read(std::uint16_t index, std::uint8_t sub = 0) const {
+    auto r = od.read_number(index, sub);
+    EXPECT_TRUE(r.ok()) << std::hex << index << "." << int(sub);
+    return r.ok() ? *r : 0;
+  }
+  std::uint16_t sw() const { return static_cast<std::uint16_t>(read(0x6041)); }
+  void step(std::uint64_t n = 1) {
+    for (std::uint64_t i = 0; i < n; ++i) {
+      core.step();
+      collect();
+    }
+  }
+  // Steps until pred() holds or max_ms passed; returns the number of steps taken (max_ms + 1 on timeout).
+  template <typename Pred>
+  std::uint64_t step_until(Pred pred, std::uint64_t max_ms) {
+    for (std::uint64_t i = 1; i <= max_ms; ++i) {
+      step();
+      if (pred()) return i;
+    }
+    return max_ms + 1;
+  }
+  void collect() {
+    auto e = core.drain_events();
+    events.insert(events.end(), std::make_move_iterator(e.begin()), std::make_move_iterator(e.end()));
+  }
+  // Boot to SOD and enable: 6, 7, 0x0F (mode as given first, applied at once).
+  void enable(std::int8_t mode = 1) {
+    if (core.time_ms() == 0) step();
+    set(0x6060, 0, mode);
+    core.apply_mode_switch_now();
+    cw(0x06);
+    cw(0x07);
+    cw(0x0F);
+    collect();
+  }
+  template <typename E>
+  std::vector<E> of() const {
+    std::vector<E> out;
+    for (const auto& e : events) {
+      if (const E* p = std::get_if<E>(&e)) out.push_back(*p);
+    }
+    return out;
+  }
+
+  model::ModelPreset preset;
+  od::ObjectDictionary od;
+  DriveCore core;
+  std::vector<Event> events;
+};
+
+}  // namespace mcemu::core::test
