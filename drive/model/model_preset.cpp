@@ -5,8 +5,8 @@
 namespace mcemu::model {
 namespace {
 
-constexpr std::array<std::string_view, 9> k_names = {
-    "MC349", "MC349_AE", "MCN23", "MCFLAT", "MCSHORT", "MC632", "MC634", "MC636", "PUSHTRACK"};
+constexpr std::array<std::string_view, 9> k_names = {"MC349", "MC349_AE", "MCN23", "MCFLAT",   "MCSHORT",
+                                                     "MC632", "MC634",    "MC636", "PUSHTRACK"};
 
 Identity identity(std::string device, std::string sw, std::uint32_t product, std::string short_name,
                   std::string display) {
@@ -69,8 +69,8 @@ ModelPreset mc349(bool ae) {
   m.ae_extras = ae;
   m.identity = ae ? identity("MC349_ETH_AE", "v50.01.10.00_AE", 50, "MC349", "MovingCap turnTRACK 349 Eth")
                   : identity("MC349_ETH_RE", "v50.00.10.00_RE", 50, "MC349", "MovingCap turnTRACK 349 Eth");
-  m.plant = plant({0.30, 0.15, 2.0e-5, 1.0e-5, 0.006, 4500, 150, 0, std::nullopt, 0, 10, ae, 2, 40,
-                   3.0, 600, false, 48});
+  m.plant =
+      plant({0.30, 0.15, 2.0e-5, 1.0e-5, 0.006, 4500, 150, 0, std::nullopt, 0, 10, ae, 2, 40, 3.0, 600, false, 48});
   m.input_pins = k_in_349;
   m.output_pins = k_out_349;
   m.factory_values = {{{0x6075, 0}, 12000}, {{0x3401, 0x18}, 1000}};
@@ -83,8 +83,8 @@ ModelPreset mcn23() {
   m.base = Base::mcn23;
   m.xdd_file = "MCN23_ETH.xdd";
   m.identity = identity("MCN23_ETH_AE", "v52.06.10.00_AE", 52, "MCN23", "MovingCap turnTRACK N23 Eth");
-  m.plant = plant({1.8, 0.81, 4.8e-5, 5.0e-5, 0.03, 1000, 80, 65536, std::nullopt, 0, 10, true, 3,
-                   30, 2.5, 900, true, 24});
+  m.plant =
+      plant({1.8, 0.81, 4.8e-5, 5.0e-5, 0.03, 1000, 80, 65536, std::nullopt, 0, 10, true, 3, 30, 2.5, 900, true, 24});
   m.input_pins = k_in_n23;
   m.output_pins = k_out_4;
   m.combined_pins = k_out_4;
@@ -101,15 +101,13 @@ ModelPreset rabbit(bool short_track) {
   m.kind = Kind::linear;
   m.supported_modes = 0x21;
   if (short_track) {
-    m.identity = identity("MCSHORT_ETH_SRABBIT", "v53.02.10.00_SRABBIT", 53, "MCSHORT",
-                          "MovingCap shortTRACK Eth");
-    m.plant = plant({30, 10, 0.15, 5, 1.0, 2.0, 200, 5000, std::pair<std::int64_t, std::int64_t>{0, 46000},
-                     23000, 1, true, 1, 20, 4.0, 300, true, 48});
+    m.identity = identity("MCSHORT_ETH_SRABBIT", "v53.02.10.00_SRABBIT", 53, "MCSHORT", "MovingCap shortTRACK Eth");
+    m.plant = plant({30, 10, 0.15, 5, 1.0, 2.0, 200, 5000, std::pair<std::int64_t, std::int64_t>{0, 46000}, 23000, 1,
+                     true, 1, 20, 4.0, 300, true, 48});
   } else {
-    m.identity = identity("MCFLAT_ETH_RABBIT", "v53.02.10.00_RABBIT", 53, "MCFLAT",
-                          "MovingCap flatTRACK Eth");
-    m.plant = plant({100, 30, 0.70, 10, 2.0, 3.0, 200, 5000, std::pair<std::int64_t, std::int64_t>{0, 200000},
-                     100000, 1, true, 2, 50, 2.0, 600, true, 48});
+    m.identity = identity("MCFLAT_ETH_RABBIT", "v53.02.10.00_RABBIT", 53, "MCFLAT", "MovingCap flatTRACK Eth");
+    m.plant = plant({100, 30, 0.70, 10, 2.0, 3.0, 200, 5000, std::pair<std::int64_t, std::int64_t>{0, 200000}, 100000,
+                     1, true, 2, 50, 2.0, 600, true, 48});
   }
   m.plant.hw_enable_input = 10;
   m.input_pins = k_in_hybrid;
@@ -153,16 +151,16 @@ ModelPreset mc6xx(std::string_view name) {
     m.identity = identity(std::string(name) + "_ETH_AE", "v54.01.10.00_AE", 54, std::string(name),
                           "MovingCap turnTRACK " + digits + " Eth");
     if (name == "MC632") {
-      m.plant = plant({0.6, 0.3, 4.0e-5, 2.0e-5, 0.012, 4000, 150, 65536, std::nullopt, 0, 10, true, 3, 60,
-                       2.0, 900, true, 48});
+      m.plant = plant(
+          {0.6, 0.3, 4.0e-5, 2.0e-5, 0.012, 4000, 150, 65536, std::nullopt, 0, 10, true, 3, 60, 2.0, 900, true, 48});
       m.factory_values = {{{0x6075, 0}, 8000}};
     } else if (name == "MC634") {
-      m.plant = plant({1.0, 0.5, 7.0e-5, 3.0e-5, 0.02, 4000, 150, 65536, std::nullopt, 0, 10, true, 3, 80,
-                       1.6, 900, true, 48});
+      m.plant = plant(
+          {1.0, 0.5, 7.0e-5, 3.0e-5, 0.02, 4000, 150, 65536, std::nullopt, 0, 10, true, 3, 80, 1.6, 900, true, 48});
       m.factory_values = {{{0x6075, 0}, 12000}};
     } else {
-      m.plant = plant({1.4, 0.7, 1.0e-4, 4.0e-5, 0.028, 4000, 150, 65536, std::nullopt, 0, 10, true, 4, 100,
-                       1.3, 900, true, 48});
+      m.plant = plant(
+          {1.4, 0.7, 1.0e-4, 4.0e-5, 0.028, 4000, 150, 65536, std::nullopt, 0, 10, true, 4, 100, 1.3, 900, true, 48});
       m.factory_values = {{{0x6075, 0}, 16000}};
     }
   }

@@ -41,7 +41,7 @@ struct Plant {
   double no_load_speed = 0;
   double velocity_bandwidth_hz = 150;
   double accel_feedforward = 0.9;
-  std::int64_t following_error_limit_inc = 0;  // 0 = none
+  std::int64_t following_error_limit_inc = 0;                      // 0 = none
   std::optional<std::pair<std::int64_t, std::int64_t>> stops_inc;  // mechanical stops, raw inc
   std::int64_t power_on_position_inc = 0;
   double moving_threshold = 10;

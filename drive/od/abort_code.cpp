@@ -35,9 +35,12 @@ std::string_view description(AbortCode c) {
     case AbortCode::resource_unavailable: return "Resource not available";
     case AbortCode::general: return "General error";
     case AbortCode::cannot_store: return "Data cannot be transferred or stored to the application";
-    case AbortCode::local_control: return "Data cannot be transferred or stored to the application because of local control";
-    case AbortCode::device_state: return "Data cannot be transferred or stored to the application because of the present device state";
-    case AbortCode::no_dictionary: return "Object dictionary dynamic generation fails or no object dictionary is present";
+    case AbortCode::local_control:
+      return "Data cannot be transferred or stored to the application because of local control";
+    case AbortCode::device_state:
+      return "Data cannot be transferred or stored to the application because of the present device state";
+    case AbortCode::no_dictionary:
+      return "Object dictionary dynamic generation fails or no object dictionary is present";
     case AbortCode::no_data: return "No data available";
   }
   return "Unknown abort code";

@@ -52,16 +52,14 @@ constexpr std::uint32_t to_u32(AbortCode c) { return static_cast<std::uint32_t>(
 std::string_view description(AbortCode c);
 
 const std::error_category& abort_category();
-inline std::error_code make_error_code(AbortCode c) {
-  return {static_cast<int>(c), abort_category()};
-}
+inline std::error_code make_error_code(AbortCode c) { return {static_cast<int>(c), abort_category()}; }
 
 // A T or the abort code that prevented it (std::expected is C++23).
 template <typename T>
 class Result {
  public:
   Result(T value) : v_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
-  Result(AbortCode code) : v_(code) {}        // NOLINT(google-explicit-constructor)
+  Result(AbortCode code) : v_(code) {}       // NOLINT(google-explicit-constructor)
   [[nodiscard]] bool ok() const { return std::holds_alternative<T>(v_); }
   explicit operator bool() const { return ok(); }
   const T& value() const { return std::get<T>(v_); }

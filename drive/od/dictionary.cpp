@@ -95,7 +95,8 @@ std::optional<Handle> ObjectDictionary::find(std::uint16_t index, std::uint8_t s
 
 Handle ObjectDictionary::handle(std::uint16_t index, std::uint8_t sub) const {
   auto r = locate(index, sub);
-  if (!r) throw std::out_of_range("object dictionary has no entry " + std::to_string(index) + "." + std::to_string(sub));
+  if (!r)
+    throw std::out_of_range("object dictionary has no entry " + std::to_string(index) + "." + std::to_string(sub));
   return *r;
 }
 
@@ -203,8 +204,7 @@ AbortCode ObjectDictionary::commit(Handle h, Value v, Origin origin, Done& done)
   return AbortCode::none;
 }
 
-AbortCode ObjectDictionary::write(std::uint16_t index, std::uint8_t sub, const Value& value, Origin origin,
-                                  Done done) {
+AbortCode ObjectDictionary::write(std::uint16_t index, std::uint8_t sub, const Value& value, Origin origin, Done done) {
   auto h = locate(index, sub);
   if (!h) return h.error();
   const Entry& e = entries_[*h];

@@ -50,11 +50,11 @@ struct EntryInfo {
   EntryClass cls = EntryClass::live;
   std::string name;
   std::string object_name;
-  Value factory;                    // factory value of the preset (before --config)
-  std::optional<Range> limits;      // min/max of §5 (.31/.32)
-  Validator validator;              // sets and structural rules of §5 (.30)
-  bool length_tolerant = false;     // 4-byte SDO writes accepted (object-dictionary.md §3.1)
-  bool from_xdd = true;             // false for the mcemu additions of §8.3
+  Value factory;                 // factory value of the preset (before --config)
+  std::optional<Range> limits;   // min/max of §5 (.31/.32)
+  Validator validator;           // sets and structural rules of §5 (.30)
+  bool length_tolerant = false;  // 4-byte SDO writes accepted (object-dictionary.md §3.1)
+  bool from_xdd = true;          // false for the mcemu additions of §8.3
 };
 
 // The request a write hook sees. `value` is what will be stored if the hook returns none; the hook
@@ -103,10 +103,9 @@ class ObjectDictionary {
   // SDO upload bytes: N little-endian bytes for numbers, the characters for strings.
   Result<std::vector<std::byte>> read_bytes(std::uint16_t index, std::uint8_t sub) const;
 
-  AbortCode write(std::uint16_t index, std::uint8_t sub, const Value& value, Origin origin,
-                  Done done = {});
-  AbortCode write_bytes(std::uint16_t index, std::uint8_t sub, std::span<const std::byte> data,
-                        SdoLength length, Origin origin = Origin::sdo, Done done = {});
+  AbortCode write(std::uint16_t index, std::uint8_t sub, const Value& value, Origin origin, Done done = {});
+  AbortCode write_bytes(std::uint16_t index, std::uint8_t sub, std::span<const std::byte> data, SdoLength length,
+                        Origin origin = Origin::sdo, Done done = {});
   // Checks 1–4 of §4.1 alone, for an SDO download initiate (size = indicated size, if any).
   AbortCode check_download(std::uint16_t index, std::uint8_t sub, std::optional<std::size_t> size) const;
   // Checks 1–3 of a read alone, for an SDO upload initiate.

@@ -1,5 +1,7 @@
 // Builds a preset's dictionary: the XDD transcription, the additions of object-dictionary.md §8.3,
 // the classes of §2.6, the write limits of §5 and the factory values of §7 / models.md §3.
+#include "drive/od/model_tables.hpp"
+
 #include <algorithm>
 #include <set>
 #include <stdexcept>
@@ -7,7 +9,6 @@
 
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
-#include "drive/od/model_tables.hpp"
 #include "drive/od/tables/xdd_tables.hpp"
 
 namespace mcemu::od {
@@ -31,7 +32,7 @@ Value parse_default(const tables::XddEntry& x) {
     t = t.substr(8);
   }
   std::int64_t v = (t.rfind("0x", 0) == 0 || t.rfind("0X", 0) == 0) ? std::stoll(t.substr(2), nullptr, 16)
-                                                                     : std::stoll(t, nullptr, 10);
+                                                                    : std::stoll(t, nullptr, 10);
   return Value{v + add};
 }
 
@@ -81,7 +82,8 @@ void add_extras(std::vector<EntryInfo>& out, const model::ModelPreset& p) {
   if (!has(0x1400)) {
     const std::string o = "1. receive PDO parameter";
     out.push_back(extra(0x1400, 0, 9, DataType::unsigned8, Access::ro, "largest subindex supported", o, num(3)));
-    out.push_back(extra(0x1400, 1, 9, DataType::unsigned32, Access::rw, "COB-Id used", o, num(0x200 + k_factory_node_id)));
+    out.push_back(
+        extra(0x1400, 1, 9, DataType::unsigned32, Access::rw, "COB-Id used", o, num(0x200 + k_factory_node_id)));
     out.push_back(extra(0x1400, 2, 9, DataType::unsigned8, Access::rw, "transmission type", o, num(0xFF)));
     out.push_back(extra(0x1400, 3, 9, DataType::unsigned16, Access::rw, "inhibit time", o, num(0)));
   }
@@ -91,29 +93,35 @@ void add_extras(std::vector<EntryInfo>& out, const model::ModelPreset& p) {
     DataType type;
     const char* name;
   };
-  for (const Py& py : {Py{0x340B, DataType::unsigned8, "Python unsigned8"}, Py{0x340C, DataType::integer8, "Python integer8"},
-                       Py{0x340D, DataType::unsigned16, "Python unsigned16"}, Py{0x340E, DataType::integer16, "Python integer16"},
-                       Py{0x340F, DataType::unsigned32, "Python unsigned32"}, Py{0x3410, DataType::integer32, "Python integer32"}}) {
+  for (const Py& py :
+       {Py{0x340B, DataType::unsigned8, "Python unsigned8"}, Py{0x340C, DataType::integer8, "Python integer8"},
+        Py{0x340D, DataType::unsigned16, "Python unsigned16"}, Py{0x340E, DataType::integer16, "Python integer16"},
+        Py{0x340F, DataType::unsigned32, "Python unsigned32"}, Py{0x3410, DataType::integer32, "Python integer32"}}) {
     if (has(py.index)) continue;
     add_record_head(out, py.index, 10, py.name);
     for (std::uint8_t s = 1; s <= 10; ++s) {
-      out.push_back(extra(py.index, s, 9, py.type, Access::rw, std::string(py.name) + " " + std::to_string(s), py.name, num(0)));
+      out.push_back(
+          extra(py.index, s, 9, py.type, Access::rw, std::string(py.name) + " " + std::to_string(s), py.name, num(0)));
     }
   }
   // 3500h Python (missing from MC6xx) and .03–.06 on every model.
   if (!has(0x3500)) {
     add_record_head(out, 0x3500, 6, "Python");
-    out.push_back(extra(0x3500, 1, 9, DataType::visible_string, Access::ro, "Script name", "Python", Value{std::string{}}));
+    out.push_back(
+        extra(0x3500, 1, 9, DataType::visible_string, Access::ro, "Script name", "Python", Value{std::string{}}));
     out.push_back(extra(0x3500, 2, 9, DataType::unsigned8, Access::rw, "Script control", "Python", num(0)));
   }
   out.push_back(extra(0x3500, 3, 9, DataType::unsigned8, Access::ro, "Python Current Line", "Python", num(0)));
   out.push_back(extra(0x3500, 4, 9, DataType::unsigned8, Access::rw, "Python Autostart", "Python", num(0)));
   out.push_back(extra(0x3500, 5, 9, DataType::unsigned32, Access::ro, "Python Source Len", "Python", num(13)));
-  out.push_back(extra(0x3500, 6, 9, DataType::unsigned32, Access::ro, "Python Source CRC32", "Python", num(0x23883CEF)));
+  out.push_back(
+      extra(0x3500, 6, 9, DataType::unsigned32, Access::ro, "Python Source CRC32", "Python", num(0x23883CEF)));
   // 3510h IO simulation, 5006h NVM statistics: every model.
   add_record_head(out, 0x3510, 2, "MovingCap IO simulation");
-  out.push_back(extra(0x3510, 1, 9, DataType::unsigned32, Access::rw, "Virtual inputs", "MovingCap IO simulation", num(0)));
-  out.push_back(extra(0x3510, 2, 9, DataType::unsigned16, Access::rw, "Input function command", "MovingCap IO simulation", num(0)));
+  out.push_back(
+      extra(0x3510, 1, 9, DataType::unsigned32, Access::rw, "Virtual inputs", "MovingCap IO simulation", num(0)));
+  out.push_back(extra(0x3510, 2, 9, DataType::unsigned16, Access::rw, "Input function command",
+                      "MovingCap IO simulation", num(0)));
   const std::string nvm = "NVM statistics";
   add_record_head(out, 0x5006, 5, nvm);
   out.push_back(extra(0x5006, 1, 9, DataType::unsigned8, Access::ro, "MEM lastSharedMemAccess Status", nvm, num(1)));
@@ -137,7 +145,8 @@ void add_extras(std::vector<EntryInfo>& out, const model::ModelPreset& p) {
     }
   }
   // 6062h position demand value (every model); 60B8h touch probe function (standard models).
-  out.push_back(extra(0x6062, 0, 7, DataType::integer32, Access::ro, "Position demand value", "Position demand value", num(0)));
+  out.push_back(
+      extra(0x6062, 0, 7, DataType::integer32, Access::ro, "Position demand value", "Position demand value", num(0)));
   if (!p.is_rabbit() && !has(0x60B8)) {
     const std::string n = "Touch probe function";
     out.push_back(extra(0x60B8, 0, 7, DataType::unsigned16, Access::rw, n, n, num(0)));
@@ -194,8 +203,7 @@ EntryClass class_of(const EntryInfo& e, Base base) {
   if (e.access == Access::ro) {
     if (e.object_code != 7 && s == 0) return EntryClass::const_;
     if (i == 0x1000 || i == 0x1018 || i == 0x1200 || in(i, 0x1600, 0x1603) || in(i, 0x1A00, 0x1A03) ||
-        (i == 0x3404 && s == 4) || in(i, 0x6402, 0x6407) || i == 0x6502 || i == 0x6503 || i == 0x67FF ||
-        i == 0x300A) {
+        (i == 0x3404 && s == 4) || in(i, 0x6402, 0x6407) || i == 0x6502 || i == 0x6503 || i == 0x67FF || i == 0x300A) {
       return EntryClass::const_;
     }
     return EntryClass::live;
@@ -349,8 +357,8 @@ void apply_factory(std::vector<EntryInfo>& out, const model::ModelPreset& p) {
   f(0x3401, 0x1B, 200);
   if (p.base == Base::mc349) f(0x3401, 0x1C, 65536);
   if (p.base == Base::mc6xx || p.base == Base::mcflat) {
-    f(0x3401, 0x0D, 4);       // pole pairs [choice, docs/decisions/0003]
-    f(0x3401, 0x0E, 16384);   // encoder increments, 4× evaluation [choice]
+    f(0x3401, 0x0D, 4);      // pole pairs [choice, docs/decisions/0003]
+    f(0x3401, 0x0E, 16384);  // encoder increments, 4× evaluation [choice]
   }
   if (p.ae_extras) f(0x3401, 0, 0x25);
   f(0x3404, 3, k_factory_node_id);

@@ -76,11 +76,11 @@ constexpr Range type_range(DataType t) {
   return {0, 0};
 }
 
-std::string_view to_string(DataType t);  // CiA name, e.g. "UNSIGNED32"
-std::string_view to_string(Access a);     // "ro", "wo", "rw", "const"
-std::string_view to_string(PdoFlag p);    // "no", "RPDO", "TPDO", "optional"
-std::string_view to_string(EntryClass c); // "const", "live", "param", "comm", "proc", "cmd"
-std::string_view to_string(Origin o);     // "sdo", "refgo", "script", "web", "internal"
+std::string_view to_string(DataType t);    // CiA name, e.g. "UNSIGNED32"
+std::string_view to_string(Access a);      // "ro", "wo", "rw", "const"
+std::string_view to_string(PdoFlag p);     // "no", "RPDO", "TPDO", "optional"
+std::string_view to_string(EntryClass c);  // "const", "live", "param", "comm", "proc", "cmd"
+std::string_view to_string(Origin o);      // "sdo", "refgo", "script", "web", "internal"
 std::optional<DataType> data_type_from_string(std::string_view cia_name);
 
 }  // namespace mcemu::od

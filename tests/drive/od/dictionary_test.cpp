@@ -75,38 +75,37 @@ TEST_P(WriteTable, FirstFailingCheckDecides) {
 using S = std::string;
 INSTANTIATE_TEST_SUITE_P(
     Checks, WriteTable,
-    ::testing::Values(
-        WriteCase{0x3000, 0, std::int64_t{1}, Origin::sdo, AbortCode::no_object},
-        WriteCase{0x2000, 1, std::int64_t{1}, Origin::sdo, AbortCode::no_sub},
-        WriteCase{0x2100, 2, std::int64_t{1}, Origin::sdo, AbortCode::no_sub},
-        WriteCase{0x2100, 4, std::int64_t{1}, Origin::sdo, AbortCode::no_sub},
-        WriteCase{0x2100, 0, std::int64_t{1}, Origin::refgo, AbortCode::read_only},
-        WriteCase{0x2007, 0, std::int64_t{1}, Origin::web, AbortCode::read_only},
-        WriteCase{0x2009, 0, std::int64_t{1}, Origin::script, AbortCode::read_only},
-        WriteCase{0x2006, 0, std::int64_t{1}, Origin::sdo, AbortCode::read_only},
-        WriteCase{0x2007, 0, std::int64_t{1}, Origin::internal, AbortCode::none},
-        WriteCase{0x2000, 0, S("x"), Origin::web, AbortCode::type_mismatch},
-        WriteCase{0x2000, 0, std::int64_t{255}, Origin::sdo, AbortCode::none},
-        WriteCase{0x2000, 0, std::int64_t{256}, Origin::sdo, AbortCode::value_too_high},
-        WriteCase{0x2000, 0, std::int64_t{-1}, Origin::sdo, AbortCode::value_too_low},
-        WriteCase{0x2001, 0, std::int64_t{-128}, Origin::sdo, AbortCode::none},
-        WriteCase{0x2001, 0, std::int64_t{-129}, Origin::sdo, AbortCode::value_too_low},
-        WriteCase{0x2001, 0, std::int64_t{128}, Origin::sdo, AbortCode::value_too_high},
-        WriteCase{0x2002, 0, std::int64_t{65536}, Origin::sdo, AbortCode::value_too_high},
-        WriteCase{0x2003, 0, std::int64_t{-32769}, Origin::sdo, AbortCode::value_too_low},
-        WriteCase{0x2004, 0, std::int64_t{4294967295LL}, Origin::sdo, AbortCode::none},
-        WriteCase{0x2004, 0, std::int64_t{-1}, Origin::script, AbortCode::none},
-        WriteCase{0x2004, 0, std::int64_t{-2147483648LL}, Origin::script, AbortCode::none},
-        WriteCase{0x2004, 0, std::int64_t{-2147483649LL}, Origin::script, AbortCode::value_too_low},
-        WriteCase{0x2004, 0, std::int64_t{4294967296LL}, Origin::sdo, AbortCode::value_too_high},
-        WriteCase{0x2005, 0, std::int64_t{2147483648LL}, Origin::sdo, AbortCode::value_too_high},
-        WriteCase{0x2200, 0, std::int64_t{0}, Origin::sdo, AbortCode::value_too_low},
-        WriteCase{0x2200, 0, std::int64_t{101}, Origin::sdo, AbortCode::value_too_high},
-        WriteCase{0x2200, 0, std::int64_t{100}, Origin::sdo, AbortCode::none},
-        WriteCase{0x2200, 0, std::int64_t{0}, Origin::internal, AbortCode::value_too_low},
-        WriteCase{0x2201, 0, std::int64_t{2}, Origin::sdo, AbortCode::invalid_value},
-        WriteCase{0x2201, 0, std::int64_t{6}, Origin::sdo, AbortCode::none},
-        WriteCase{0x2201, 0, std::int64_t{40000}, Origin::sdo, AbortCode::value_too_high}));
+    ::testing::Values(WriteCase{0x3000, 0, std::int64_t{1}, Origin::sdo, AbortCode::no_object},
+                      WriteCase{0x2000, 1, std::int64_t{1}, Origin::sdo, AbortCode::no_sub},
+                      WriteCase{0x2100, 2, std::int64_t{1}, Origin::sdo, AbortCode::no_sub},
+                      WriteCase{0x2100, 4, std::int64_t{1}, Origin::sdo, AbortCode::no_sub},
+                      WriteCase{0x2100, 0, std::int64_t{1}, Origin::refgo, AbortCode::read_only},
+                      WriteCase{0x2007, 0, std::int64_t{1}, Origin::web, AbortCode::read_only},
+                      WriteCase{0x2009, 0, std::int64_t{1}, Origin::script, AbortCode::read_only},
+                      WriteCase{0x2006, 0, std::int64_t{1}, Origin::sdo, AbortCode::read_only},
+                      WriteCase{0x2007, 0, std::int64_t{1}, Origin::internal, AbortCode::none},
+                      WriteCase{0x2000, 0, S("x"), Origin::web, AbortCode::type_mismatch},
+                      WriteCase{0x2000, 0, std::int64_t{255}, Origin::sdo, AbortCode::none},
+                      WriteCase{0x2000, 0, std::int64_t{256}, Origin::sdo, AbortCode::value_too_high},
+                      WriteCase{0x2000, 0, std::int64_t{-1}, Origin::sdo, AbortCode::value_too_low},
+                      WriteCase{0x2001, 0, std::int64_t{-128}, Origin::sdo, AbortCode::none},
+                      WriteCase{0x2001, 0, std::int64_t{-129}, Origin::sdo, AbortCode::value_too_low},
+                      WriteCase{0x2001, 0, std::int64_t{128}, Origin::sdo, AbortCode::value_too_high},
+                      WriteCase{0x2002, 0, std::int64_t{65536}, Origin::sdo, AbortCode::value_too_high},
+                      WriteCase{0x2003, 0, std::int64_t{-32769}, Origin::sdo, AbortCode::value_too_low},
+                      WriteCase{0x2004, 0, std::int64_t{4294967295LL}, Origin::sdo, AbortCode::none},
+                      WriteCase{0x2004, 0, std::int64_t{-1}, Origin::script, AbortCode::none},
+                      WriteCase{0x2004, 0, std::int64_t{-2147483648LL}, Origin::script, AbortCode::none},
+                      WriteCase{0x2004, 0, std::int64_t{-2147483649LL}, Origin::script, AbortCode::value_too_low},
+                      WriteCase{0x2004, 0, std::int64_t{4294967296LL}, Origin::sdo, AbortCode::value_too_high},
+                      WriteCase{0x2005, 0, std::int64_t{2147483648LL}, Origin::sdo, AbortCode::value_too_high},
+                      WriteCase{0x2200, 0, std::int64_t{0}, Origin::sdo, AbortCode::value_too_low},
+                      WriteCase{0x2200, 0, std::int64_t{101}, Origin::sdo, AbortCode::value_too_high},
+                      WriteCase{0x2200, 0, std::int64_t{100}, Origin::sdo, AbortCode::none},
+                      WriteCase{0x2200, 0, std::int64_t{0}, Origin::internal, AbortCode::value_too_low},
+                      WriteCase{0x2201, 0, std::int64_t{2}, Origin::sdo, AbortCode::invalid_value},
+                      WriteCase{0x2201, 0, std::int64_t{6}, Origin::sdo, AbortCode::none},
+                      WriteCase{0x2201, 0, std::int64_t{40000}, Origin::sdo, AbortCode::value_too_high}));
 
 TEST(Dictionary, ReadChecks) {
   ObjectDictionary od(test_entries());
@@ -222,9 +221,7 @@ TEST(Dictionary, PendingWriteCompletesLater) {
 
 TEST(Dictionary, ReentrantHookWritesOtherEntries) {
   ObjectDictionary od(test_entries());
-  od.on_write(0x2000, 0, [&](WriteRequest& r) {
-    return od.write(0x2007, 0, r.value, Origin::internal);
-  });
+  od.on_write(0x2000, 0, [&](WriteRequest& r) { return od.write(0x2007, 0, r.value, Origin::internal); });
   EXPECT_EQ(od.write(0x2000, 0, std::int64_t{42}, Origin::sdo), AbortCode::none);
   EXPECT_EQ(*od.read_number(0x2007, 0), 42);
 }
@@ -260,11 +257,11 @@ TEST(Dictionary, BulkLoadChecksTypeAndLimitsButNotAccessOrHooks) {
     return AbortCode::none;
   });
   const std::vector<StoredValue> load{
-      {0x2007, 0, std::int64_t{77}},   // ro: accepted by a bulk load
-      {0x2005, 0, std::int64_t{-5}},   // hook not run
-      {0x2200, 0, std::int64_t{0}},    // below limit: keeps its value
-      {0x2000, 0, S("text")},          // wrong kind
-      {0x2999, 0, std::int64_t{1}},    // unknown object
+      {0x2007, 0, std::int64_t{77}},  // ro: accepted by a bulk load
+      {0x2005, 0, std::int64_t{-5}},  // hook not run
+      {0x2200, 0, std::int64_t{0}},   // below limit: keeps its value
+      {0x2000, 0, S("text")},         // wrong kind
+      {0x2999, 0, std::int64_t{1}},   // unknown object
   };
   const auto issues = od.load_values(load);
   EXPECT_FALSE(hooked);

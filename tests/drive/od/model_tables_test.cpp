@@ -272,8 +272,8 @@ TEST(Presets, UnknownNameAndRabbitSpecifics) {
 }
 
 INSTANTIATE_TEST_SUITE_P(All, EveryPreset,
-                         ::testing::Values("MC349", "MC349_AE", "MCN23", "MCFLAT", "MCSHORT", "MC632", "MC634",
-                                           "MC636", "PUSHTRACK"));
+                         ::testing::Values("MC349", "MC349_AE", "MCN23", "MCFLAT", "MCSHORT", "MC632", "MC634", "MC636",
+                                           "PUSHTRACK"));
 
 }  // namespace
 }  // namespace mcemu::od

@@ -1,0 +1,143 @@
+#include "persistence/service.hpp"
+
+#include <spdlog/spdlog.h>
+
+namespace mcemu::persistence {
+
+namespace {
+
+std::int64_t get_number(const od::Value& v) {
+  return std::holds_alternative<std::int64_t>(v) ? std::get<std::int64_t>(v) : 0;
+}
+
+// Replaces the values of `group` in `target` with those of `source`.
+void take_group(Image& target, const Image& source, Group group, const od::ObjectDictionary& od) {
+  for (auto& sv : target.objects) {
+    const auto* info = od.info(sv.index, sv.sub);
+    if (!info || group_of(*info) != group) continue;
+    for (const auto& src : source.objects) {
+      if (src.index == sv.index && src.sub == sv.sub) {
+        sv.value = src.value;
+        break;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+Service::Service(od::ObjectDictionary& od, std::string model, std::string mcemu_version, Image factory,
+                 std::optional<Image> on_file, Storage& storage, ServiceHooks hooks)
+    : od_(od),
+      model_(std::move(model)),
+      version_(std::move(mcemu_version)),
+      factory_(std::move(factory)),
+      durable_(std::move(on_file)),
+      expected_(durable_),
+      storage_(storage),
+      hooks_(std::move(hooks)) {
+  if (durable_) script_ = durable_->script;
+  next_counter_ = od_.number(0x5006, 5);
+  for (std::uint8_t s = 1; s <= 3; ++s) {
+    od_.on_write(0x1010, s, [this](od::WriteRequest& r) { return store_all(r); });
+    od_.on_write(0x1011, s, [this](od::WriteRequest& r) { return restore_all(r); });
+  }
+  if (od_.find(0x3010, 1)) od_.on_write(0x3010, 1, [this](od::WriteRequest& r) { return store_motor(r); });
+}
+
+Image Service::with_counter(Image img) {
+  ++next_counter_;
+  for (auto& sv : img.objects) {
+    if (sv.index == 0x5006 && sv.sub == 5) sv.value = next_counter_;
+  }
+  return img;
+}
+
+void Service::count_event(bool ok) {
+  const auto bump = [&](std::uint8_t sub) {
+    const auto h = od_.handle(0x5006, sub);
+    od_.set(h, od::Value{(od_.number(h) + 1) & 0xFF});
+  };
+  bump(3);
+  if (!ok) bump(4);
+  od_.set(od_.handle(0x5006, 1), od::Value{std::int64_t{ok ? 1 : 0}});
+}
+
+void Service::submit(Image img, od::Done done, std::function<void(bool ok)> after) {
+  const auto started = std::chrono::steady_clock::now();
+  const std::string text = serialize(img, model_, version_, hooks_.now_utc ? hooks_.now_utc() : "");
+  const std::int64_t counter = next_counter_;
+  expected_ = img;
+  ++in_flight_;
+  storage_.write_state(text, [this, img = std::move(img), done = std::move(done), after = std::move(after), started,
+                              counter](std::optional<std::string> error) mutable {
+    --in_flight_;
+    const auto took = std::chrono::steady_clock::now() - started;
+    if (took > std::chrono::milliseconds(250)) {
+      spdlog::warn("store took {} ms", std::chrono::duration_cast<std::chrono::milliseconds>(took).count());
+    }
+    if (error) {
+      spdlog::error("store failed: {}", *error);
+      --next_counter_;
+      expected_ = durable_;
+      count_event(false);
+      if (after) after(false);
+      if (done) done(od::AbortCode::hardware_error);
+      return;
+    }
+    durable_ = std::move(img);
+    const auto h = od_.handle(0x5006, 5);
+    if (counter > od_.number(h)) od_.set(h, od::Value{counter});
+    count_event(true);
+    if (after) after(true);
+    if (done) done(od::AbortCode::none);
+  });
+}
+
+od::AbortCode Service::store_all(od::WriteRequest& req) {
+  if (get_number(req.value) != k_save) return od::AbortCode::cannot_store;
+  Image img = snapshot(od_);
+  img.home_offset_inc = hooks_.home_offset_inc ? hooks_.home_offset_inc() : 0;
+  img.script = script_;
+  submit(with_counter(std::move(img)), std::move(*req.done), {});
+  return od::AbortCode::pending;
+}
+
+od::AbortCode Service::store_motor(od::WriteRequest& req) {
+  if (get_number(req.value) != k_save) return od::AbortCode::cannot_store;
+  Image img = expected_ ? *expected_ : factory_;
+  take_group(img, snapshot(od_), Group::motor, od_);
+  submit(with_counter(std::move(img)), std::move(*req.done),
+         [this](bool ok) { od_.set(od_.handle(0x3010, 2), od::Value{std::int64_t{ok ? 1 : 0}}); });
+  return od::AbortCode::pending;
+}
+
+od::AbortCode Service::restore_all(od::WriteRequest& req) {
+  if (get_number(req.value) != k_load) return od::AbortCode::cannot_store;
+  if (hooks_.operation_enabled && hooks_.operation_enabled()) return od::AbortCode::device_state;
+  Image img = factory_;
+  // Survivors: the motor group and the network identity keep their stored values (or factory
+  // values if never stored).
+  const Image& kept = expected_ ? *expected_ : factory_;
+  take_group(img, kept, Group::motor, od_);
+  take_group(img, kept, Group::network, od_);
+  img.home_offset_inc = 0;
+  img.autostart = false;
+  img.script = nullptr;
+  submit(with_counter(std::move(img)), std::move(*req.done), [this](bool ok) {
+    if (!ok) return;
+    std::vector<od::StoredValue> params;
+    for (const auto& sv : factory_.objects) {
+      const auto* info = od_.info(sv.index, sv.sub);
+      if (info && group_of(*info) == Group::parameters) params.push_back(sv);
+    }
+    od_.load_values(params);
+    script_ = nullptr;
+    if (hooks_.reset_script) hooks_.reset_script();
+    if (hooks_.after_restore) hooks_.after_restore();
+    spdlog::info("factory reset done: parameters restored, script replaced by the placeholder");
+  });
+  return od::AbortCode::pending;
+}
+
+}  // namespace mcemu::persistence

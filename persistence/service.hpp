@@ -1,0 +1,76 @@
+// Store Permanently / Factory Reset / motor-parameter store (persistence.md §3, §4, §12, §13).
+//
+// Registers the write hooks of 1010h.01–.03, 1011h.01–.03 and 3010h.01 on the dictionary. A hook
+// checks the signature (0x08000020) and, for a restore, the drive state (0x08000022), takes the
+// snapshot on the event-loop thread, hands the file write to `Storage` and answers `pending`; the
+// OD write completes (done callback) when the file is durable or the write failed (0x06060000).
+// Requests run strictly in arrival order, each writing the snapshot of its own arrival. A restore
+// changes RAM only after its file is durable, so a failed restore changes nothing.
+// Threading: every call and callback on the event-loop thread.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "drive/od/dictionary.hpp"
+#include "persistence/state_document.hpp"
+
+namespace mcemu::persistence {
+
+inline constexpr std::int64_t k_save = 0x65766173;  // "save"
+inline constexpr std::int64_t k_load = 0x64616F6C;  // "load"
+
+// Writes the state file; completion is delivered on the event-loop thread in request order.
+class Storage {
+ public:
+  virtual ~Storage() = default;
+  using Completion = std::function<void(std::optional<std::string> error)>;
+  virtual void write_state(std::string contents, Completion done) = 0;
+};
+
+struct ServiceHooks {
+  std::function<bool()> operation_enabled;        // a restore is refused while true
+  std::function<std::int64_t()> home_offset_inc;  // stored for absolute-encoder models
+  std::function<void()> after_restore;            // RAM image changed by a bulk load (core, node, iofunc)
+  std::function<void()> reset_script;             // stop the script, load the placeholder
+  std::function<std::string()> now_utc;           // "2026-01-15T10:15:02Z" for written_utc
+};
+
+class Service {
+ public:
+  // `factory` is the factory image (XDD → preset → --config); `on_file` what the state file holds
+  // (nullopt if none was loaded).
+  Service(od::ObjectDictionary& od, std::string model, std::string mcemu_version, Image factory,
+          std::optional<Image> on_file, Storage& storage, ServiceHooks hooks);
+
+  const Image& factory() const { return factory_; }
+  // The uploaded script of the program group (null = placeholder); scripting sets it.
+  const nlohmann::json& script() const { return script_; }
+  void set_script(nlohmann::json script) { script_ = std::move(script); }
+  std::size_t in_flight() const { return in_flight_; }
+
+ private:
+  od::AbortCode store_all(od::WriteRequest& req);
+  od::AbortCode restore_all(od::WriteRequest& req);
+  od::AbortCode store_motor(od::WriteRequest& req);
+  Image with_counter(Image img);
+  void submit(Image img, od::Done done, std::function<void(bool ok)> after);
+  void count_event(bool ok);
+
+  od::ObjectDictionary& od_;
+  std::string model_;
+  std::string version_;
+  Image factory_;
+  std::optional<Image> durable_;   // what the file holds now
+  std::optional<Image> expected_;  // what it will hold when the queued writes are done
+  Storage& storage_;
+  ServiceHooks hooks_;
+  nlohmann::json script_;
+  std::int64_t next_counter_ = 0;
+  std::size_t in_flight_ = 0;
+};
+
+}  // namespace mcemu::persistence

@@ -1,0 +1,223 @@
+#include "server/settings.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "drive/model/model_preset.hpp"
+
+namespace mcemu::server {
+
+using nlohmann::json;
+
+namespace {
+
+const std::set<std::string> k_levels = {"trace", "debug", "info", "warn", "error", "critical", "off"};
+// Top-level config sections owned by components; validated there.
+const std::set<std::string> k_sections = {"objects", "model_overrides", "plant", "homing", "slcan",
+                                          "canopen", "settings",        "refgo", "http",   "udp"};
+
+std::string names_of_presets() {
+  std::string out;
+  for (auto n : model::preset_names()) out += (out.empty() ? "" : ", ") + std::string(n);
+  return out;
+}
+
+std::uint64_t parse_uint(const std::string& text, std::uint64_t max, const std::string& what) {
+  std::uint64_t v = 0;
+  const auto* end = text.data() + text.size();
+  auto [p, ec] = std::from_chars(text.data(), end, v);
+  if (text.empty() || ec != std::errc{} || p != end || v > max) {
+    throw UsageError("invalid value '" + text + "' for " + what + " (expected an integer 0…" + std::to_string(max) +
+                     ")");
+  }
+  return v;
+}
+
+std::uint16_t parse_port(const std::string& text, const std::string& what) {
+  return static_cast<std::uint16_t>(parse_uint(text, 65535, what));
+}
+
+std::size_t parse_clients(const std::string& text, const std::string& what) {
+  const auto v = parse_uint(text, 100000, what);
+  if (v == 0) throw UsageError("invalid value '0' for " + what + " (at least 1)");
+  return static_cast<std::size_t>(v);
+}
+
+void check_bind(const std::string& text) {
+  // IPv4 dotted quad or an IPv6 literal; name resolution is not done at start-up.
+  if (text.find(':') != std::string::npos) {
+    if (text.find_first_not_of("0123456789abcdefABCDEF:.") != std::string::npos) {
+      throw UsageError("invalid value '" + text + "' for --bind (expected an IP address)");
+    }
+    return;
+  }
+  parse_ipv4(text, "--bind");
+}
+
+// Sets one option from its text; `what` names the flag in messages.
+void set_option(Settings& s, const std::string& name, const std::string& value, const std::string& what) {
+  if (name == "model") {
+    if (!model::find_preset(value)) {
+      throw UsageError("unknown model '" + value + "' for " + what + " (valid: " + names_of_presets() + ")");
+    }
+    s.model = value;
+  } else if (name == "bind") {
+    check_bind(value);
+    s.bind = value;
+  } else if (name == "refgo-port") {
+    s.refgo_port = parse_port(value, what);
+  } else if (name == "slcan-port") {
+    s.slcan_port = parse_port(value, what);
+  } else if (name == "http-port") {
+    s.http_port = parse_port(value, what);
+  } else if (name == "udp-port") {
+    s.udp_port = parse_port(value, what);
+  } else if (name == "ip") {
+    parse_ipv4(value, what);
+    s.ip = value;
+    s.ip_explicit = true;
+  } else if (name == "state-dir") {
+    if (value.empty()) throw UsageError("empty value for " + what);
+    s.state_dir = value;
+  } else if (name == "config") {
+    s.config_file = value;
+  } else if (name == "log-level") {
+    if (!k_levels.count(value)) {
+      throw UsageError("invalid value '" + value + "' for " + what +
+                       " (trace, debug, info, warn, error, critical, off)");
+    }
+    s.log_level = value;
+  } else if (name == "max-clients") {
+    const auto n = parse_clients(value, what);
+    s.refgo_max_clients = s.slcan_max_clients = s.http_max_clients = n;
+  } else {
+    throw UsageError("unknown option --" + name + " (see --help)");
+  }
+}
+
+const std::set<std::string> k_value_flags = {"model", "bind",      "refgo-port", "slcan-port", "http-port",  "udp-port",
+                                             "ip",    "state-dir", "config",     "log-level",  "max-clients"};
+
+std::string scalar_text(const json& v, const std::string& what) {
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_number_unsigned() || v.is_number_integer()) return std::to_string(v.get<std::int64_t>());
+  throw UsageError("invalid value " + v.dump() + " for " + what);
+}
+
+}  // namespace
+
+std::array<std::uint8_t, 4> parse_ipv4(const std::string& text, const std::string& what) {
+  std::array<std::uint8_t, 4> out{};
+  std::size_t pos = 0;
+  for (int i = 0; i < 4; ++i) {
+    const std::size_t dot = i < 3 ? text.find('.', pos) : text.size();
+    if (dot == std::string::npos) throw UsageError("invalid value '" + text + "' for " + what + " (expected A.B.C.D)");
+    const std::string part = text.substr(pos, dot - pos);
+    std::uint64_t v = 0;
+    auto [p, ec] = std::from_chars(part.data(), part.data() + part.size(), v);
+    if (part.empty() || part.size() > 3 || ec != std::errc{} || p != part.data() + part.size() || v > 255) {
+      throw UsageError("invalid value '" + text + "' for " + what + " (expected A.B.C.D)");
+    }
+    out[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(v);
+    pos = dot + 1;
+  }
+  return out;
+}
+
+void apply_config(Settings& s, const json& config, const std::vector<std::string>& flags_given) {
+  if (!config.is_object()) throw UsageError("config: the document must be a JSON object");
+  const auto given = [&](const std::string& n) {
+    return std::find(flags_given.begin(), flags_given.end(), n) != flags_given.end();
+  };
+  for (const auto& [key, value] : config.items()) {
+    std::string name = key;
+    std::replace(name.begin(), name.end(), '_', '-');
+    if (k_sections.count(key)) {
+      if (!value.is_object()) throw UsageError("config: \"" + key + "\" must be an object");
+      continue;
+    }
+    if (name == "config" || !k_value_flags.count(name)) throw UsageError("config: unknown key \"" + key + "\"");
+    if (given(name)) continue;  // the command line wins
+    set_option(s, name, scalar_text(value, "config key \"" + key + "\""), "config key \"" + key + "\"");
+  }
+  // per-service connection limits (README: a per-service key overrides --max-clients)
+  for (const auto& [section, target] : {std::pair<const char*, std::size_t*>{"refgo", &s.refgo_max_clients},
+                                        {"slcan", &s.slcan_max_clients},
+                                        {"http", &s.http_max_clients}}) {
+    if (config.contains(section) && config[section].contains("max_clients")) {
+      const std::string what = std::string("config key \"") + section + ".max_clients\"";
+      *target = parse_clients(scalar_text(config[section]["max_clients"], what), what);
+    }
+  }
+  s.config = config;
+}
+
+Settings parse_command_line(const std::vector<std::string>& args) {
+  Settings s;
+  std::vector<std::string> given;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a.rfind("--", 0) != 0) throw UsageError("unexpected argument '" + a + "' (see --help)");
+    std::string name = a.substr(2);
+    std::optional<std::string> value;
+    if (auto eq = name.find('='); eq != std::string::npos) {
+      value = name.substr(eq + 1);
+      name = name.substr(0, eq);
+    }
+    if (name == "help" || name == "version" || name == "dump-od") {
+      if (value) throw UsageError("option --" + name + " takes no value");
+      (name == "help" ? s.help : name == "version" ? s.version : s.dump_od) = true;
+      continue;
+    }
+    if (!k_value_flags.count(name)) throw UsageError("unknown option --" + name + " (see --help)");
+    if (!value) {
+      if (i + 1 >= args.size()) throw UsageError("option --" + name + " needs a value");
+      value = args[++i];
+    }
+    set_option(s, name, *value, "--" + name);
+    given.push_back(name);
+  }
+  if (s.help || s.version) return s;
+  if (s.config_file) {
+    std::ifstream in(*s.config_file);
+    if (!in) throw UsageError("cannot read config file " + *s.config_file);
+    std::stringstream buf;
+    buf << in.rdbuf();
+    json doc = json::parse(buf.str(), nullptr, false);
+    if (doc.is_discarded()) throw UsageError("config file " + *s.config_file + " is not valid JSON");
+    // Re-apply command-line values after the config so that they win.
+    apply_config(s, doc, given);
+  }
+  return s;
+}
+
+std::string help_text() {
+  return R"(mcemu — emulator of a Fullmo MovingCap Ethernet servo drive
+
+Usage: mcemu [options]
+
+  --model NAME        drive model preset (default MC349): MC349, MC349_AE, MCN23, MCFLAT,
+                      MCSHORT, MC632, MC634, MC636, PUSHTRACK
+  --bind ADDR         address all services listen on (default 127.0.0.1)
+  --refgo-port N      RefGo text commands, TCP (default 10001; 0 = any free port, logged)
+  --slcan-port N      CANopen over SLCAN, TCP (default 15001)
+  --http-port N       web UI and JSON API, HTTP (default 80)
+  --udp-port N        debug output, UDP (default 14999)
+  --ip A.B.C.D        the drive's own IP address as it reports it (default 192.168.2.150)
+  --state-dir DIR     where Store Permanently keeps parameters (default ./mcemu-state)
+  --config FILE       JSON file with any of these options (without "--") and sections
+                      "objects", "model_overrides", "plant", "homing", "slcan", "canopen", "settings"
+  --log-level L       trace, debug, info, warn, error, critical, off (default info)
+  --max-clients N     simultaneous TCP connections per service (default 8 RefGo/SLCAN, 32 HTTP)
+  --dump-od           print the object dictionary of the model as JSON and exit
+  --version           print the version and exit
+  --help              print this text and exit
+)";
+}
+
+}  // namespace mcemu::server

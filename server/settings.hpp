@@ -1,0 +1,54 @@
+// The command line and --config file of mcemu (spec README "Command line"). Pure parsing: no I/O
+// except reading the config file named on the command line.
+//
+// Precedence: command-line flag > config file > default. Every invalid flag or value is a
+// UsageError with a one-line message; main prints it and exits with status 2.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mcemu::server {
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Settings {
+  std::string model = "MC349";
+  std::string bind = "127.0.0.1";
+  std::uint16_t refgo_port = 10001;
+  std::uint16_t slcan_port = 15001;
+  std::uint16_t http_port = 80;
+  std::uint16_t udp_port = 14999;
+  std::string ip = "192.168.2.150";
+  bool ip_explicit = false;  // --ip on the command line or "ip" in the config (persistence.md §6)
+  std::string state_dir = "./mcemu-state";
+  std::optional<std::string> config_file;
+  std::string log_level = "info";
+  std::size_t refgo_max_clients = 8;
+  std::size_t slcan_max_clients = 8;
+  std::size_t http_max_clients = 32;
+  bool dump_od = false;
+  bool help = false;
+  bool version = false;
+  // The config document (sections "objects", "model_overrides", "plant", "homing", "slcan",
+  // "canopen", "settings", …) for the components that own them; {} without --config.
+  nlohmann::json config = nlohmann::json::object();
+};
+
+// Parses argv (without argv[0]); reads and merges the --config file. Throws UsageError.
+Settings parse_command_line(const std::vector<std::string>& args);
+// Applies a config document (already parsed) below the given command-line flags; exposed for tests.
+void apply_config(Settings& s, const nlohmann::json& config, const std::vector<std::string>& flags_given);
+
+std::string help_text();
+
+// Dotted IPv4 → four octets (throws UsageError naming `what`).
+std::array<std::uint8_t, 4> parse_ipv4(const std::string& text, const std::string& what);
+
+}  // namespace mcemu::server

@@ -1,0 +1,150 @@
+// The stored image and its file format (persistence.md §2, §9, §11).
+#include "persistence/state_document.hpp"
+
+#include <gtest/gtest.h>
+
+#include "drive/model/model_preset.hpp"
+
+namespace mcemu::persistence {
+namespace {
+
+od::ObjectDictionary make(std::string_view model) { return od::ObjectDictionary(*model::find_preset(model)); }
+
+TEST(Groups, FollowTheSpec) {
+  auto od = make("MCFLAT");
+  const auto g = [&](std::uint16_t i, std::uint8_t s) { return group_of(*od.info(i, s)); };
+  EXPECT_EQ(g(0x6083, 0), Group::parameters);
+  EXPECT_EQ(g(0x1017, 0), Group::parameters) << "comm entries are stored with the parameters";
+  EXPECT_EQ(g(0x3300, 7), Group::motor);
+  EXPECT_EQ(g(0x3301, 4), Group::parameters);
+  EXPECT_EQ(g(0x3404, 3), Group::network);
+  EXPECT_EQ(g(0x5007, 1), Group::network);
+  EXPECT_EQ(g(0x5008, 4), Group::network);
+  EXPECT_EQ(g(0x5006, 5), Group::nvm);
+  EXPECT_EQ(g(0x3500, 4), Group::parameters);
+  for (auto [i, s] : std::initializer_list<std::pair<std::uint16_t, std::uint8_t>>{{0x6040, 0},
+                                                                                   {0x6060, 0},
+                                                                                   {0x607A, 0},
+                                                                                   {0x60FF, 0},
+                                                                                   {0x60FE, 1},
+                                                                                   {0x3510, 1},
+                                                                                   {0x3510, 2},
+                                                                                   {0x1010, 1},
+                                                                                   {0x1011, 1},
+                                                                                   {0x3010, 1},
+                                                                                   {0x1003, 0},
+                                                                                   {0x1F51, 1},
+                                                                                   {0x3500, 2},
+                                                                                   {0x3401, 0x19},
+                                                                                   {0x6041, 0},
+                                                                                   {0x1000, 0}}) {
+    EXPECT_EQ(g(i, s), Group::none) << std::hex << i << "." << int(s) << " is volatile";
+  }
+  auto n23 = make("MCN23");
+  EXPECT_EQ(group_of(*n23.info(0x2000, 1)), Group::none);
+  EXPECT_EQ(group_of(*n23.info(0x2000, 3)), Group::none);
+  EXPECT_EQ(group_of(*n23.info(0x5002, 1)), Group::none);
+  EXPECT_EQ(group_of(*n23.info(0x5001, 2)), Group::none);
+}
+
+TEST(Keys, FormatAndParse) {
+  EXPECT_EQ(object_key(0x6083, 0), "6083.00");
+  EXPECT_EQ(object_key(0x351A, 0x0A), "351A.0A");
+  EXPECT_EQ(parse_object_key("351A.0A"), (std::pair<std::uint16_t, std::uint8_t>{0x351A, 0x0A}));
+  EXPECT_FALSE(parse_object_key("6083.0"));
+  EXPECT_FALSE(parse_object_key("6083-00"));
+  EXPECT_FALSE(parse_object_key("60G3.00"));
+}
+
+TEST(Crc32, KnownValues) {
+  EXPECT_EQ(crc32("123456789"), 0xCBF43926U);
+  EXPECT_EQ(crc32("#id (empty)\r\n"), 0x23883CEFU) << "the placeholder script's CRC (persistence.md §4)";
+  EXPECT_EQ(hex32(0x8a41c0de), "0x8a41c0de");
+}
+
+TEST(Document, RoundTripIsExactAndCanonical) {
+  auto od = make("MC349");
+  ASSERT_EQ(od.write(0x6083, 0, od::Value{std::int64_t{2000}}, od::Origin::sdo), od::AbortCode::none);
+  ASSERT_EQ(od.write(0x340F, 1, od::Value{std::int64_t{-1}}, od::Origin::script), od::AbortCode::none);
+  Image img = snapshot(od);
+  img.home_offset_inc = -123;
+  img.autostart = true;
+  img.script = {{"id", "x.py"}, {"encoding", "utf-8"}, {"source", "#id x.py\nprint(1)\n"}, {"crc32", "0x1"}};
+  const std::string text = serialize(img, "MC349", "0.1.0", "2026-01-15T10:15:02Z");
+  EXPECT_EQ(text.back(), '\n');
+  EXPECT_EQ(text.find('\r'), std::string::npos);
+  EXPECT_NE(text.find("\n  \"format\": \"mcemu-drive-state\""), std::string::npos) << "2-space indent";
+  auto parsed = parse(text, "MC349", od);
+  ASSERT_TRUE(std::holds_alternative<ParsedFile>(parsed));
+  const auto& p = std::get<ParsedFile>(parsed);
+  EXPECT_TRUE(p.bad_keys.empty());
+  EXPECT_EQ(payload_json(p.image), payload_json(img));
+  EXPECT_EQ(p.image.home_offset_inc, -123);
+  EXPECT_TRUE(p.image.autostart);
+  // 340Fh.01 is UNSIGNED32: stored as its bit pattern
+  EXPECT_NE(text.find("\"340F.01\": 4294967295"), std::string::npos);
+}
+
+struct Corrupt {
+  const char* name;
+  std::string text;
+  std::string reason;
+};
+
+class CorruptFiles : public ::testing::TestWithParam<Corrupt> {};
+
+TEST_P(CorruptFiles, AreRejectedWithAReason) {
+  auto od = make("MC349");
+  auto r = parse(GetParam().text, "MC349", od);
+  ASSERT_TRUE(std::holds_alternative<ParseFailure>(r));
+  EXPECT_NE(std::get<ParseFailure>(r).reason.find(GetParam().reason), std::string::npos)
+      << std::get<ParseFailure>(r).reason;
+}
+
+std::string valid_text(std::string_view model = "MC349") {
+  auto od = make(model);
+  return serialize(snapshot(od), model, "0.1.0", "x");
+}
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  s.replace(s.find(from), from.size(), to);
+  return s;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, CorruptFiles,
+    ::testing::Values(Corrupt{"truncated", valid_text().substr(0, 300), "not valid JSON"},
+                      Corrupt{"random", std::string("\x89PNG\r\n\x1a\n\x00\x01", 10), "not valid JSON"},
+                      Corrupt{"array", "[1,2,3]", "not a JSON object"},
+                      Corrupt{"crc", replace(valid_text(), "\"6083.00\": 1000", "\"6083.00\": 1001"), "payload_crc32"},
+                      Corrupt{"format", replace(valid_text(), "mcemu-drive-state", "other"), "wrong format"},
+                      Corrupt{"newer", replace(valid_text(), "\"format_version\": 1", "\"format_version\": 2"),
+                              "newer than supported"},
+                      Corrupt{"missing", replace(valid_text(), "\"payload_crc32\"", "\"x\""), "missing member"},
+                      Corrupt{"model", valid_text("MC349_AE"), "stored for model MC349_AE, running as MC349"}),
+    [](const auto& p) { return std::string(p.param.name); });
+
+TEST(Document, UnknownKeysAndBadValuesAreReportedNotFatal) {
+  auto od = make("MC349");
+  Image img = snapshot(od);
+  img.objects.push_back({0x7000, 0, od::Value{std::int64_t{1}}});      // no such object
+  img.objects.push_back({0x6040, 0, od::Value{std::int64_t{15}}});     // volatile: not storable
+  img.objects.push_back({0x6083, 0, od::Value{std::string("fast")}});  // wrong type
+  img.objects.push_back({0x340F, 2, od::Value{std::int64_t{-5}}});     // negative for U32
+  const auto text = serialize(img, "MC349", "0.1.0", "x");
+  auto r = parse(text, "MC349", od);
+  ASSERT_TRUE(std::holds_alternative<ParsedFile>(r));
+  const auto& p = std::get<ParsedFile>(r);
+  EXPECT_EQ(p.bad_keys.size(), 4u);
+  EXPECT_EQ(p.image.objects.size(), snapshot(od).objects.size() - 2) << "6083 and 340F.02 were replaced";
+}
+
+TEST(PlantFile, RoundTripAndModelCheck) {
+  const auto t = serialize_plant("MC349_AE", -40000);
+  EXPECT_EQ(parse_plant(t, "MC349_AE"), -40000);
+  EXPECT_EQ(parse_plant(t, "MC349"), std::nullopt);
+  EXPECT_EQ(parse_plant("{", "MC349_AE"), std::nullopt);
+}
+
+}  // namespace
+}  // namespace mcemu::persistence

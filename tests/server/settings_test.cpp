@@ -1,0 +1,107 @@
+// Command line and config file of mcemu (spec README "Command line").
+#include "server/settings.hpp"
+
+#include <gtest/gtest.h>
+
+namespace mcemu::server {
+namespace {
+
+using json = nlohmann::json;
+
+TEST(CommandLine, Defaults) {
+  const auto s = parse_command_line({});
+  EXPECT_EQ(s.model, "MC349");
+  EXPECT_EQ(s.bind, "127.0.0.1");
+  EXPECT_EQ(s.refgo_port, 10001);
+  EXPECT_EQ(s.slcan_port, 15001);
+  EXPECT_EQ(s.http_port, 80);
+  EXPECT_EQ(s.udp_port, 14999);
+  EXPECT_EQ(s.ip, "192.168.2.150");
+  EXPECT_FALSE(s.ip_explicit);
+  EXPECT_EQ(s.state_dir, "./mcemu-state");
+  EXPECT_EQ(s.log_level, "info");
+  EXPECT_EQ(s.refgo_max_clients, 8u);
+  EXPECT_EQ(s.slcan_max_clients, 8u);
+  EXPECT_EQ(s.http_max_clients, 32u);
+}
+
+TEST(CommandLine, AllFlagsBothSpellings) {
+  const auto s = parse_command_line({"--model", "MCFLAT", "--bind=0.0.0.0", "--refgo-port", "0", "--slcan-port=1",
+                                     "--http-port", "8080", "--udp-port", "65535", "--ip", "10.0.0.7", "--state-dir",
+                                     "/tmp/x", "--log-level", "debug", "--max-clients", "100", "--dump-od"});
+  EXPECT_EQ(s.model, "MCFLAT");
+  EXPECT_EQ(s.bind, "0.0.0.0");
+  EXPECT_EQ(s.refgo_port, 0);
+  EXPECT_EQ(s.slcan_port, 1);
+  EXPECT_EQ(s.http_port, 8080);
+  EXPECT_EQ(s.udp_port, 65535);
+  EXPECT_EQ(s.ip, "10.0.0.7");
+  EXPECT_TRUE(s.ip_explicit);
+  EXPECT_EQ(s.state_dir, "/tmp/x");
+  EXPECT_EQ(s.log_level, "debug");
+  EXPECT_EQ(s.refgo_max_clients, 100u);
+  EXPECT_EQ(s.slcan_max_clients, 100u);
+  EXPECT_EQ(s.http_max_clients, 100u);
+  EXPECT_TRUE(s.dump_od);
+}
+
+struct Bad {
+  std::vector<std::string> args;
+  std::string message_part;
+};
+
+class BadCommandLine : public ::testing::TestWithParam<Bad> {};
+
+TEST_P(BadCommandLine, OneLineNamingTheProblem) {
+  try {
+    parse_command_line(GetParam().args);
+    FAIL() << "accepted";
+  } catch (const UsageError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(GetParam().message_part), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, BadCommandLine,
+    ::testing::Values(Bad{{"--modle", "MC349"}, "unknown option --modle"}, Bad{{"--model", "mc349"}, "valid: MC349"},
+                      Bad{{"--model"}, "needs a value"}, Bad{{"--refgo-port", "65536"}, "--refgo-port"},
+                      Bad{{"--http-port", "-1"}, "--http-port"}, Bad{{"--udp-port", "12a"}, "--udp-port"},
+                      Bad{{"--ip", "192.168.2"}, "--ip"}, Bad{{"--ip", "1.2.3.256"}, "--ip"},
+                      Bad{{"--bind", "localhost"}, "--bind"}, Bad{{"--log-level", "verbose"}, "--log-level"},
+                      Bad{{"--max-clients", "0"}, "--max-clients"}, Bad{{"stray"}, "unexpected argument"},
+                      Bad{{"--help=1"}, "takes no value"}, Bad{{"--config", "/nonexistent/x.json"}, "cannot read"}));
+
+TEST(Config, FlagsWithoutDashesAndCommandLineWins) {
+  Settings s;
+  apply_config(s,
+               json{{"model", "MCN23"},
+                    {"http-port", 8081},
+                    {"state_dir", "/tmp/y"},
+                    {"ip", "10.1.1.1"},
+                    {"max-clients", 4},
+                    {"slcan", {{"max_clients", 2}}},
+                    {"objects", {{"6083.00", 2000}}}},
+               {"model"});
+  EXPECT_EQ(s.model, "MC349") << "the command line wins";
+  EXPECT_EQ(s.http_port, 8081);
+  EXPECT_EQ(s.state_dir, "/tmp/y");
+  EXPECT_TRUE(s.ip_explicit) << "\"ip\" in the config counts as explicit";
+  EXPECT_EQ(s.refgo_max_clients, 4u);
+  EXPECT_EQ(s.slcan_max_clients, 2u) << "a per-service key overrides max-clients";
+  EXPECT_EQ(s.http_max_clients, 4u);
+  EXPECT_EQ(s.config["objects"]["6083.00"], 2000);
+}
+
+TEST(Config, InvalidValuesAreUsageErrors) {
+  for (const json& bad :
+       {json{{"modell", "x"}}, json{{"http_port", "eighty"}}, json{{"http_port", 70000}}, json{{"objects", 5}},
+        json{{"model", "MC999"}}, json{{"slcan", {{"max_clients", 0}}}}, json{{"ip", true}}, json::array()}) {
+    Settings s;
+    EXPECT_THROW(apply_config(s, bad, {}), UsageError) << bad.dump();
+  }
+}
+
+}  // namespace
+}  // namespace mcemu::server

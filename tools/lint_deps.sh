@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Dependency lint (design.md "Layout" and "Dependency direction"): the pure folders never include
+# Asio, Beast, spdlog, <thread>, <mutex>, <condition_variable>, never read a clock or sleep, and
+# never include a layer above them. Prints every violation; exit 1 if there is any.
+set -uo pipefail
+cd "${LINT_ROOT:-$(dirname "${BASH_SOURCE[0]}")/..}" || exit 2
+
+pure_files() {
+  { find drive iofunc web/api -type f \( -name '*.cpp' -o -name '*.hpp' \) 2>/dev/null
+    find protocols -type f \( -name '*.cpp' -o -name '*.hpp' \) -not -path '*/net/*' 2>/dev/null; } | sort
+}
+
+status=0
+forbidden='#include[[:space:]]*[<"](boost/asio|boost/beast|spdlog|thread>|mutex>|shared_mutex>|condition_variable>|future>)'
+clocks='steady_clock::now|system_clock::now|high_resolution_clock::now|sleep_for|sleep_until|gettimeofday|clock_gettime|[^_a-z]time\(nullptr\)|[^_a-z]usleep\('
+while IFS= read -r f; do
+  if grep -nE "$forbidden" "$f" /dev/null; then status=1; fi
+  if grep -nE "$clocks" "$f" /dev/null; then status=1; fi
+done < <(pure_files)
+
+# Dependency direction: drive ← iofunc ← protocols/web/api ← */net, scripting ← server.
+check_layer() {  # folder, forbidden include prefixes (regex)
+  local folder=$1 pattern=$2
+  [ -d "$folder" ] || return 0
+  if grep -rnE "#include[[:space:]]*\"($pattern)" "$folder" --include='*.cpp' --include='*.hpp'; then status=1; fi
+}
+check_layer drive 'iofunc/|protocols/|web/|server/|persistence/|scripting/'
+check_layer iofunc 'protocols/|web/|server/|persistence/|scripting/'
+check_layer web/api 'web/net/|server/|protocols/[a-z]+/net/'
+for d in protocols/*/; do
+  [ -d "$d" ] || continue
+  if grep -rnE '#include[[:space:]]*"(server/|web/)' "$d" --include='*.cpp' --include='*.hpp'; then status=1; fi
+done
+# SLCAN knows CAN frames, not CANopen (design.md)
+check_layer protocols/slcan 'protocols/canopen/'
+
+if [ $status -ne 0 ]; then
+  echo "dependency lint: violations above (see design.md: pure folders and dependency direction)" >&2
+else
+  echo "dependency lint: ok ($(pure_files | wc -l) pure files checked)"
+fi
+exit $status
