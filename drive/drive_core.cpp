@@ -115,6 +115,7 @@ void DriveCore::install_hooks() {
       lim.max_user = sub == 2 ? as_int(req.value) : ctx_.num(ctx_.h.limit_max);
       lim.on = !(lim.min_user == 0 && lim.max_user == 0) && lim.min_user < lim.max_user;
       pp_.on_limits_changed(lim);
+      update_statusword();
       return od::AbortCode::none;
     });
   }

@@ -202,7 +202,10 @@ void ProfilePosition::on_limits_changed(const SoftLimits& lim) {
   for (auto& sp : buffer_) clamp_sp(sp);
   if (!active_) return;
   const bool running = ctx_.gen.kind() == Generator::Kind::move && !ctx_.gen.profile_done();
-  if (clamp_sp(*active_) && running && !halted_) plan(*active_, buffer_.empty() ? nullptr : &buffer_.front());
+  if (clamp_sp(*active_)) {
+    limit_ = true;
+    if (running && !halted_) plan(*active_, buffer_.empty() ? nullptr : &buffer_.front());
+  }
 }
 
 void ProfilePosition::generate(std::uint16_t cw) {
