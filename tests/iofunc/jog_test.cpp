@@ -147,5 +147,24 @@ TEST(Jog, QuickStopEndsOwnership) {
   EXPECT_EQ(rig.sw() & 0x6F, 0x07);
 }
 
+// Any motion function of another input takes the drive over and ends the jog (§4.12).
+TEST(Jog, AnotherMotionFunctionEndsOwnership) {
+  Rig rig("MC632");
+  rig.W(0x3515, 1, 0x0A0A);
+  rig.W(0x3511, 1, 0x0400);
+  rig.W(0x3511, 8, 5000);
+  rig.P(5, true);
+  rig.step();
+  ASSERT_TRUE(rig.io.jog_owner().has_value());
+  rig.P(1, true);
+  rig.step();
+  EXPECT_FALSE(rig.io.jog_owner().has_value());
+  EXPECT_EQ(rig.R(0x6061), 1);
+  EXPECT_EQ(rig.R(0x607A), 5000);
+  rig.P(5, false);
+  rig.step();
+  EXPECT_EQ(rig.R(0x6061), 1);
+}
+
 }  // namespace
 }  // namespace mcemu::iofunc::test
