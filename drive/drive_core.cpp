@@ -273,6 +273,12 @@ void DriveCore::connection_lost() {
   update_statusword();
 }
 
+void DriveCore::send_script_emcy(std::uint32_t error_number, std::uint8_t error_register, std::uint16_t error_code) {
+  Emcy e{error_code, error_register, {}};
+  for (std::size_t i = 0; i < 4; ++i) e.data[i] = static_cast<std::uint8_t>((error_number >> (8 * i)) & 0xFF);
+  ctx_.emit(e);
+}
+
 void DriveCore::recompute_inputs() {
   if (powered_) publish_inputs(true);
 }

@@ -84,6 +84,9 @@ class DriveCore {
   void remove_obstacle(ObstacleId id);
   bool set_external_input_level(int input, bool high);  // false: no such pin on the model
   void connection_lost();                               // §11.6
+  // §11.8 mcdrive.SendEmcyMsg: an EMCY with bytes code, register, error number (u32 LE), 0.
+  // Changes no object and no state.
+  void send_script_emcy(std::uint32_t error_number, std::uint8_t error_register = 0, std::uint16_t error_code = 0x509B);
 
   // ---- inputs (§10.9)
   void recompute_inputs();

@@ -412,6 +412,10 @@ void DriveCore::stroke_reaction() {
   if (state_ != PdsState::operation_enabled || pending_ != Pending::none) return;
   pp_.clear();
   hm_.abort();
+  // the motion is aborted where the axis is: the demand that ran ahead of the blocked axis is
+  // dropped, so the axis does not keep pushing
+  ctx_.gen.reset(plant_.position_inc(), plant_.velocity_inc_s());
+  plant_.clear_integrator();
   if (option == 1) {
     ctx_.gen.start_stop(ctx_.quick_stop_decel());
     stroke_hold_ = true;
@@ -420,7 +424,7 @@ void DriveCore::stroke_reaction() {
   }
   const std::int64_t pos = ctx_.num(ctx_.h.stroke_position);
   const double target =
-      option == 2 ? static_cast<double>(ctx_.raw_of(pos)) : std::round(ctx_.gen.out().p) + static_cast<double>(pos);
+      option == 2 ? static_cast<double>(ctx_.raw_of(pos)) : static_cast<double>(ctx_.actual_raw_inc + pos);
   const double v = ctx_.scaling.speed_limit_to_inc_s(static_cast<double>(ctx_.num(ctx_.h.stroke_velocity)));
   ctx_.gen.start_move(target, v, ctx_.profile_accel(), ctx_.profile_decel());
   service_move_ = true;
@@ -430,6 +434,7 @@ void DriveCore::after_homing() {
   if (!hm_.take_reference_set()) return;
   pp_.reset_reference();
   plant_.clear_integrator();
+  write_actuals();  // the position changes inside the call that found the reference (§9.3)
 }
 
 }  // namespace mcemu::core

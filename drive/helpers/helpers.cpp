@@ -163,6 +163,11 @@ bool chk_moving(const DriveRef& d) { return (read_statusword(d) & 0x0100) != 0; 
 bool chk_error(const DriveRef& d) { return (read_statusword(d) & 0x0008) != 0; }
 bool chk_mfr_status(const DriveRef& d, int bit) { return bit >= 0 && bit < 32 && ((get(d, 0x1002) >> bit) & 1) != 0; }
 
+void send_emcy_msg(const DriveRef& d, std::uint32_t error_number, std::uint8_t error_register,
+                   std::uint16_t error_code) {
+  d.core.send_script_emcy(error_number, error_register, error_code);
+}
+
 od::AbortCode store_permanent(const DriveRef& d, od::Done done) {
   return d.od.write(0x1010, 1, od::Value{std::int64_t{0x65766173}}, d.origin, std::move(done));
 }

@@ -60,6 +60,10 @@ bool chk_moving(const DriveRef& d);               // 6041h bit 8
 bool chk_error(const DriveRef& d);                // 6041h bit 3
 bool chk_mfr_status(const DriveRef& d, int bit);  // bit of 1002h
 
+// SendEmcyMsg(errorNumber, errorRegister = 0, errorCode = 0x509B), §11.8.
+void send_emcy_msg(const DriveRef& d, std::uint32_t error_number, std::uint8_t error_register = 0,
+                   std::uint16_t error_code = 0x509B);
+
 // 1010h.01 := "save" / 1011h.01 := "load"; may answer pending and complete through done
 // (persistence.md). Storage itself is not the core's business.
 od::AbortCode store_permanent(const DriveRef& d, od::Done done = {});

@@ -69,8 +69,8 @@ void ProfileVelocity::generate(std::uint16_t cw) {
   const double v = g.out().v;
   if (lim && g.kind() == Generator::Kind::move) {
     // braking towards a limit: keep going while the target still points at it
-    const double limit = g.move_target();
-    const bool towards = (limit >= p && vt > 0) || (limit <= p && vt < 0);
+    const bool at_max = g.move_target() == static_cast<double>(lim->second);
+    const bool towards = at_max ? vt > 0 : vt < 0;
     if (towards) {
       pinned_ = g.finished();
       return;
