@@ -10,8 +10,13 @@
 #include "persistence/state_dir.hpp"
 #include "persistence/worker_storage.hpp"
 #include "protocols/line/net/line_server.hpp"
+#include "protocols/refgo/interpreter.hpp"
+#include "protocols/refgo/session.hpp"
+#include "protocols/udp_debug/messages.hpp"
+#include "protocols/udp_debug/net/udp_debug_service.hpp"
 #include "server/clock_driver.hpp"
 #include "server/drive_image.hpp"
+#include "server/plant_settings.hpp"
 #include "web/api/router.hpp"
 #include "web/net/http_server.hpp"
 
@@ -39,8 +44,8 @@ std::string utc_format(const char* fmt) {
                      e.code().message() + "); choose another port with " + flag);
 }
 
-// Placeholder session for the RefGo and SLCAN ports until their protocol engines are wired: the
-// listener, its limits and socket options exist from the foundation on (issue 2).
+// Placeholder session for the SLCAN port until its protocol engine is wired: the listener, its
+// limits and socket options exist from the foundation on (issue 2).
 class SilentSession final : public line::StreamSession {
  public:
   void receive(std::string_view) override {}
@@ -51,6 +56,41 @@ class SilentSession final : public line::StreamSession {
  private:
   bool done_ = false;
 };
+
+// Wraps a session to report the client's connect and disconnect as UDP emulator notes
+// (udp-debug.md §4.7); the session's behaviour is unchanged.
+class NotedSession final : public line::StreamSession {
+ public:
+  NotedSession(std::unique_ptr<line::StreamSession> inner, udp_debug::net::UdpDebugService& udp, std::string what)
+      : inner_(std::move(inner)), udp_(udp), what_(std::move(what)) {
+    inner_->set_wake([this] { wake(); });
+    udp_.note(what_ + " connected");
+  }
+  ~NotedSession() override { udp_.note(what_ + " disconnected"); }
+  NotedSession(const NotedSession&) = delete;
+  NotedSession& operator=(const NotedSession&) = delete;
+
+  void receive(std::string_view bytes) override { inner_->receive(bytes); }
+  std::string take_output() override { return inner_->take_output(); }
+  void peer_closed() override { inner_->peer_closed(); }
+  bool finished() const override { return inner_->finished(); }
+  bool paused() const override { return inner_->paused(); }
+
+ private:
+  std::unique_ptr<line::StreamSession> inner_;
+  udp_debug::net::UdpDebugService& udp_;
+  std::string what_;
+};
+
+bool udp_notes_setting(const nlohmann::json& config) {
+  const auto s = config.find("settings");
+  if (s == config.end() || !s->is_object()) return false;
+  const auto n = s->find("udpEmulatorNotes");
+  if (n == s->end()) return false;
+  if (!n->is_boolean())
+    throw UsageError("invalid value for settings.udpEmulatorNotes in --config (expected true/false)");
+  return n->get<bool>();
+}
 
 }  // namespace
 
@@ -99,12 +139,23 @@ void App::build_drive() {
     }
   }
 
+  try {
+    core_ = std::make_unique<core::DriveCore>(preset_, *od_, plant_config_from_json(settings_.config));
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("invalid plant configuration in --config: ") + e.what());
+  }
+
   storage_ = std::make_unique<persistence::WorkerStorage>(io_, state_dir_->state_file(),
                                                           persistence::write_options_from_environment());
   persistence::ServiceHooks hooks;
   hooks.now_utc = utc_iso8601;
+  hooks.operation_enabled = [this] { return core_->state() == core::PdsState::operation_enabled; };
+  hooks.home_offset_inc = [this] { return core_->home_offset_inc(); };
+  hooks.after_restore = [this] { core_->reload_parameters(); };
   persistence_ = std::make_unique<persistence::Service>(*od_, preset_.name, MCEMU_VERSION, std::move(factory),
                                                         std::move(on_file), *storage_, std::move(hooks));
+  refgo_interpreter_ = std::make_unique<refgo::Interpreter>(*od_, *core_);
+  core_->power_on();
 }
 
 std::string App::active_ip() const {
@@ -181,31 +232,58 @@ void App::bind_listeners() {
   try {
     udp_ = std::make_unique<udp::socket>(io_);
     udp_->open(address.is_v6() ? udp::v6() : udp::v4());
+    // SO_REUSEADDR lets a host tool such as Fullmo's UdpMonitor bind the same port (udp-debug.md §1.2).
+    udp_->set_option(udp::socket::reuse_address(true));
     udp_->bind(udp::endpoint(address, settings_.udp_port));
   } catch (const boost::system::system_error& e) {
     bind_failed("UDP debug output", settings_.bind, settings_.udp_port, "--udp-port", e);
   }
+  udp_debug_ = std::make_unique<udp_debug::net::UdpDebugService>(io_, *udp_);
+  udp_debug_->set_notes(udp_notes_setting(settings_.config));
 }
 
 // ---- protocol engines behind the listeners ----------------------------------------------------
 
-std::unique_ptr<line::StreamSession> App::make_refgo_session(const line::net::PeerInfo&) {
-  return std::make_unique<SilentSession>();
+std::unique_ptr<line::StreamSession> App::make_refgo_session(const line::net::PeerInfo& peer) {
+  auto session = std::make_unique<refgo::Session>(*refgo_interpreter_);
+  if (!udp_debug_->notes()) return session;
+  return std::make_unique<NotedSession>(std::move(session), *udp_debug_, "refgo client " + peer.address);
 }
 
 std::unique_ptr<line::StreamSession> App::make_slcan_session(const line::net::PeerInfo&) {
   return std::make_unique<SilentSession>();
 }
 
-// One simulation step of 1 ms (drive-core.md §2), called by the clock driver.
-void App::step() {}
+// One simulation step of 1 ms (drive-core.md §2), called by the clock driver; the RefGo programs
+// (jog timer, Back & Forth) follow in the same drive time.
+void App::step() {
+  core_->step();
+  refgo_interpreter_->on_step();
+  on_core_events();
+}
 
+void App::on_core_events() {
+  for (const auto& e : core_->drain_events()) {
+    if (const auto* f = std::get_if<core::FaultRaised>(&e)) {
+      udp_debug_->note(udp_debug::fault_text(f->code));
+    } else if (std::holds_alternative<core::FaultResetDone>(e)) {
+      udp_debug_->note("fault cleared");
+    }
+  }
+}
+
+// The UDP debug console starts with the start-up block of this power-up (udp-debug.md §4.1).
 void App::start_udp_receive() {
-  udp_->async_receive_from(asio::buffer(udp_buffer_), udp_peer_,
-                           [this](const boost::system::error_code& ec, std::size_t) {
-                             if (ec == asio::error::operation_aborted || shut_down_) return;
-                             start_udp_receive();
-                           });
+  udp_debug_->power_up(active_ip(), script_id());
+  udp_debug_->start();
+}
+
+std::string App::script_id() const {
+  const auto id = od_->read(0x3500, 1);
+  if (id && std::holds_alternative<std::string>(*id) && !std::get<std::string>(*id).empty()) {
+    return std::get<std::string>(*id);
+  }
+  return "(empty)";
 }
 
 void App::start() {
@@ -233,6 +311,7 @@ void App::shutdown() {
   if (refgo_) refgo_->stop();
   if (slcan_) slcan_->stop();
   if (http_) http_->stop();
+  if (udp_debug_) udp_debug_->stop();
   if (udp_) {
     boost::system::error_code ec;
     udp_->close(ec);

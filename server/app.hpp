@@ -9,12 +9,19 @@
 #include <stdexcept>
 #include <string>
 
+#include "drive/drive_core.hpp"
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
 #include "server/settings.hpp"
 
 namespace mcemu::line {
 class StreamSession;
+}
+namespace mcemu::refgo {
+class Interpreter;
+}
+namespace mcemu::udp_debug::net {
+class UdpDebugService;
 }
 namespace mcemu::line::net {
 class LineServer;
@@ -50,6 +57,9 @@ class App {
   void shutdown();  // stop accepting, close sessions, finish pending stores, write the plant state
 
   od::ObjectDictionary& od() { return *od_; }
+  core::DriveCore& drive_core() { return *core_; }
+  // The UDP debug console (udp-debug.md): status lines, notes, power_cycle().
+  udp_debug::net::UdpDebugService& udp_debug() { return *udp_debug_; }
 
  private:
   void build_drive();
@@ -58,23 +68,26 @@ class App {
   std::unique_ptr<line::StreamSession> make_refgo_session(const line::net::PeerInfo& peer);
   std::unique_ptr<line::StreamSession> make_slcan_session(const line::net::PeerInfo& peer);
   void step();
+  void on_core_events();
   std::string active_ip() const;
   std::string active_mask() const;
+  std::string script_id() const;
 
   boost::asio::io_context& io_;
   Settings settings_;
   model::ModelPreset preset_;
   std::unique_ptr<od::ObjectDictionary> od_;
+  std::unique_ptr<core::DriveCore> core_;
   std::unique_ptr<persistence::StateDir> state_dir_;
   std::unique_ptr<persistence::WorkerStorage> storage_;
   std::unique_ptr<persistence::Service> persistence_;
+  std::unique_ptr<refgo::Interpreter> refgo_interpreter_;
   std::unique_ptr<line::net::LineServer> refgo_;
   std::unique_ptr<line::net::LineServer> slcan_;
   std::unique_ptr<web::net::HttpServer> http_;
   std::unique_ptr<boost::asio::ip::udp::socket> udp_;
+  std::unique_ptr<udp_debug::net::UdpDebugService> udp_debug_;
   std::unique_ptr<ClockDriver> clock_;
-  std::array<char, 2048> udp_buffer_{};
-  boost::asio::ip::udp::endpoint udp_peer_;
   bool shut_down_ = false;
 };
 

@@ -1,0 +1,72 @@
+// The Asio side of the UDP debug console (udp-debug.md §1, §3.4, §5.2): the receive loop, the one
+// posted flush per burst of output, non-blocking sends from the bound socket, and the counters.
+//
+// Contract: everything on the io_context's single thread. The socket is bound by the composition
+// root (server/app.cpp) and outlives the service. Sending never blocks: a datagram the kernel
+// refuses is dropped and counted; a receive error is counted and the next receive starts at once.
+// The composition root calls power_up() at process start and power_cycle() for a power cycle
+// (listeners and backlog forgotten, start-up block produced again, persistence.md §7).
+#pragma once
+
+#include <array>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/udp.hpp>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "protocols/udp_debug/console.hpp"
+
+namespace mcemu::udp_debug::net {
+
+struct Counters {
+  std::uint64_t datagrams_sent = 0;
+  std::uint64_t datagrams_dropped = 0;  // refused by the kernel
+  std::uint64_t datagrams_received = 0;
+  std::uint64_t receive_errors = 0;
+};
+
+class UdpDebugService {
+ public:
+  UdpDebugService(boost::asio::io_context& io, boost::asio::ip::udp::socket& socket);
+  ~UdpDebugService();
+  UdpDebugService(const UdpDebugService&) = delete;
+  UdpDebugService& operator=(const UdpDebugService&) = delete;
+
+  void start();  // begin receiving
+  void stop();   // stop receiving and sending (the socket stays open)
+
+  // One console message (with its own line ending).
+  void emit(std::string message);
+  // An emulator note "mcemu: <text>\r\n", sent only while notes are on (udp-debug.md §4.7).
+  void note(std::string_view text);
+  void set_notes(bool on) { notes_ = on; }
+  bool notes() const { return notes_; }
+
+  // The start-up block of a power-up (udp-debug.md §4.1).
+  void power_up(std::string_view ip, std::string_view script_id);
+  // Forget listeners, backlog and unsent output, then produce the start-up block again.
+  void power_cycle(std::string_view ip, std::string_view script_id);
+
+  const Console& console() const { return console_; }
+  const Counters& counters() const { return counters_; }
+
+ private:
+  void do_receive();
+  void on_receive(const boost::system::error_code& ec, std::size_t n);
+  void schedule_flush();
+  void flush();
+
+  boost::asio::io_context& io_;
+  boost::asio::ip::udp::socket& socket_;
+  Console console_;
+  Counters counters_;
+  std::array<char, 2048> buffer_{};
+  boost::asio::ip::udp::endpoint sender_;
+  bool notes_ = false;
+  bool running_ = false;
+  bool flush_posted_ = false;
+  std::uint64_t generation_ = 0;  // a power cycle or stop invalidates a posted flush
+};
+
+}  // namespace mcemu::udp_debug::net
