@@ -53,7 +53,11 @@ void IoFunctions::install_hooks() {
     for (std::size_t k = 0; k < h_.out.size(); ++k) {
       if (num(h_.out[k].function) == 0) manual |= output_bit(k);
     }
-    latch_ = static_cast<std::uint32_t>(as_int(req.value)) & manual;
+    const auto written = static_cast<std::uint32_t>(as_int(req.value));
+    if (((written ^ compose()) & k_output_mask & ~manual) != 0 && req.origin != od::Origin::internal) {
+      note(core::DiagnosticLevel::debug, "60FEh.01: outputs owned by an output function keep their level");
+    }
+    latch_ = written & manual;
     req.value = od::Value{static_cast<std::int64_t>(compose())};
     return od::AbortCode::none;
   });

@@ -312,6 +312,45 @@ TEST(OutputWord, ManualWritesOwnershipAndSwitching) {
   EXPECT_EQ(rig.R(0x60FE, 2), 0xFFFFFFFF);
 }
 
+// Writes that try to change an owned output succeed, change nothing and leave a debug note.
+TEST(OutputWord, OwnedWriteIsNotedAtDebugLevel) {
+  Rig rig;
+  rig.W(0x3611, 1, 5);
+  rig.step();
+  rig.diagnostics.clear();
+  rig.W(0x60FE, 1, 0x10000);  // the owned bit already has this level: nothing to note
+  EXPECT_TRUE(rig.io.drain_diagnostics().empty());
+  rig.W(0x60FE, 1, 0);
+  const auto notes = rig.io.drain_diagnostics();
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0].level, core::DiagnosticLevel::debug);
+  EXPECT_TRUE(rig.out(1));
+}
+
+// §5.4 on the running drive: in rotary operation (60F2h bits 6–7) the distance to the reference is
+// reduced by one revolution of the rotary range first.
+TEST(PositionReached, RotaryOperationReducesByTheRange) {
+  Rig rig;
+  rig.W(0x3611, 1, 4);
+  rig.W(0x3611, 2, 2);
+  rig.W(0x3611, 5, 20);
+  rig.W(0x3611, 6, 20);
+  rig.W(0x3511, 1, 0x0600);  // IN1: relative move of one revolution and 100
+  rig.W(0x3511, 8, 65636);
+  rig.pulse(1);
+  rig.until([&] { return rig.reached(); }, 10000);
+  ASSERT_NEAR(static_cast<double>(rig.R(0x6063)), 65636, 10);
+  rig.W(0x3512, 3, 100);  // IN2's result register, written directly
+  rig.step();
+  EXPECT_FALSE(rig.out(1)) << "linear operation: 65536 increments away";
+  rig.W(0x60F2, 0, 0xC0);
+  rig.step();
+  EXPECT_TRUE(rig.out(1)) << "rotary operation: the same position one revolution on";
+  rig.W(0x3512, 3, 100 + 32768);
+  rig.step();
+  EXPECT_FALSE(rig.out(1));
+}
+
 // RefGo SO/CO are read-modify-writes of 60FEh.01 (refgo.md §7.8).
 void so(Rig& r, int n) { r.W(0x60FE, 1, r.R(0x60FE, 1) | (std::int64_t{1} << (15 + n))); }
 void co(Rig& r, int n) { r.W(0x60FE, 1, r.R(0x60FE, 1) & ~(std::int64_t{1} << (15 + n))); }
