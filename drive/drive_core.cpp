@@ -140,6 +140,9 @@ void DriveCore::power_on(const PowerOnState& state) {
   ctx_.actual_raw_inc = raw;
   ctx_.actual_velocity_inc_s = 0;
   prev_position_inc_ = plant_.position_inc();
+  prev_reported_inc_ = raw;
+  noise_state_ = params_.noise.seed;
+  dc_link_v_ = supply_set_.value_or(params_.supply_nominal_v);
   ctx_.home_offset_inc = params_.absolute_encoder ? state.home_offset_inc : raw;
   ctx_.gen.reset(static_cast<double>(raw));
   demand_prev_ = ctx_.gen.out();
@@ -195,7 +198,12 @@ double DriveCore::temperature_c() const {
 double DriveCore::supply_voltage() const {
   if (injected(FaultCause::under_voltage)) return params_.supply_uv_v - 1;
   if (injected(FaultCause::over_voltage)) return params_.supply_ov_v + 1;
+  if (params_.regen.enabled && powered_) return dc_link_v_;
   return supply_set_.value_or(params_.supply_nominal_v);
+}
+
+std::int64_t DriveCore::raw_position_inc() const {
+  return powered_ ? round_half_away(plant_.position_inc()) : ctx_.actual_raw_inc;
 }
 
 void DriveCore::apply_mode_switch_now() {

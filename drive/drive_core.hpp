@@ -53,7 +53,8 @@ class DriveCore {
   // ---- queries, no side effects
   PdsState state() const { return state_; }
   bool powered() const { return powered_; }
-  std::int64_t raw_position_inc() const { return ctx_.actual_raw_inc; }
+  // the plant's position (without measurement noise), for the plant-state file
+  std::int64_t raw_position_inc() const;
   std::int64_t home_offset_inc() const { return ctx_.home_offset_inc; }
   std::int64_t last_internal_target_inc() const;
   std::optional<std::int64_t> last_setpoint_target_inc() const { return pp_.last_setpoint_target_inc(); }
@@ -134,6 +135,7 @@ class DriveCore {
   void run_plant();
   void monitors();
   void thermal_step();
+  std::int64_t next_noise();
   void finish_write();
   // drive_core_outputs.cpp
   std::uint32_t compute_inputs() const;
@@ -187,6 +189,9 @@ class DriveCore {
   PlantOutput plant_out_;
   std::int64_t current_permille_ = 0;
   double prev_position_inc_ = 0;
+  std::int64_t prev_reported_inc_ = 0;
+  std::uint64_t noise_state_ = 0;
+  double dc_link_v_ = 0;
   std::uint64_t fault_reset_prev_ = 0;
 
   InputsObserver observer_;

@@ -18,11 +18,12 @@ void put(od::ObjectDictionary& od, od::Handle h, std::int64_t v) {
 
 std::uint32_t DriveCore::compute_inputs() const {
   std::uint32_t physical = 0;
+  const std::int64_t raw = raw_position_inc();  // switches see the mechanics, not the encoder noise
   const std::int64_t outputs = ctx_.num(ctx_.h.outputs);
   for (int n = 1; n <= 10; ++n) {
     bool level = external_level_[static_cast<std::size_t>(n)];
     for (const auto& sw : params_.position_switches) {
-      if (sw.input == n && ctx_.actual_raw_inc >= sw.from_inc && ctx_.actual_raw_inc <= sw.to_inc) level = true;
+      if (sw.input == n && raw >= sw.from_inc && raw <= sw.to_inc) level = true;
     }
     if (std::find(preset_.combined_pins.begin(), preset_.combined_pins.end(), n) != preset_.combined_pins.end() &&
         ((outputs >> (15 + n)) & 1)) {

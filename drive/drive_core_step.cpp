@@ -44,7 +44,11 @@ void DriveCore::enter_mode(std::int8_t mode) {
     case 3: pv_.enter(); break;
     case 6: hm_.enter(); break;
     default:
-      if (ctx_.gen.active()) ctx_.gen.start_stop(ctx_.ramp_decel_6084());
+      if (ctx_.gen.active()) {
+        ctx_.gen.start_stop(ctx_.ramp_decel_6084());
+      } else {
+        ctx_.gen.reset(ctx_.gen.out().p);
+      }
       break;
   }
 }
@@ -93,9 +97,16 @@ void DriveCore::run_plant() {
   in.torque_limit = torque_on_ ? torque_limit() : 0;
   plant_out_ = plant_.step(in);
   const double pos = plant_.position_inc();
-  ctx_.actual_velocity_inc_s = (pos - prev_position_inc_) / k_dt;
-  prev_position_inc_ = pos;
   ctx_.actual_raw_inc = round_half_away(pos);
+  if (params_.noise.enabled) {
+    // §10.8: the reported counter is noisy, and so is the velocity derived from it
+    ctx_.actual_raw_inc += next_noise();
+    ctx_.actual_velocity_inc_s = static_cast<double>(ctx_.actual_raw_inc - prev_reported_inc_) / k_dt;
+  } else {
+    ctx_.actual_velocity_inc_s = (pos - prev_position_inc_) / k_dt;
+  }
+  prev_position_inc_ = pos;
+  prev_reported_inc_ = ctx_.actual_raw_inc;
   current_permille_ = torque_on_ ? round_half_away(1000.0 * plant_out_.mean_torque / params_.torque_peak) : 0;
   // without torque the demand follows the actual position (transition 4 starts from there)
   if (!torque_on_) ctx_.gen.reset(pos);
@@ -178,6 +189,25 @@ void DriveCore::monitors() {
 void DriveCore::thermal_step() {
   const double i = std::fabs(static_cast<double>(current_permille_)) / 1000.0;
   thermal_.step(i, ambient_c_);
+  // §10.11: braking power charges the DC link, the idle load drains it, the supply cannot sink
+  const double supply = supply_set_.value_or(params_.supply_nominal_v);
+  if (params_.regen.enabled) {
+    const double u = std::max(dc_link_v_, 1.0);
+    dc_link_v_ = std::max(supply, dc_link_v_ + k_dt * (plant_out_.mean_brake_power - params_.p_idle_w) /
+                                                   (params_.regen.capacitance_f * u));
+  } else {
+    dc_link_v_ = supply;
+  }
+}
+
+std::int64_t DriveCore::next_noise() {
+  // splitmix64 (§10.8): a fixed generator keeps runs identical across standard libraries
+  std::uint64_t z = (noise_state_ += 0x9E3779B97F4A7C15ULL);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  z ^= z >> 31;
+  const auto span = static_cast<std::uint64_t>(2 * params_.noise.inc + 1);
+  return static_cast<std::int64_t>(z % span) - params_.noise.inc;
 }
 
 }  // namespace mcemu::core

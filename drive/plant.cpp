@@ -55,6 +55,7 @@ PlantOutput Plant::step(const PlantInput& in) {
   PlantOutput out;
   double torque_sum = 0;
   double power_sum = 0;
+  double brake_sum = 0;
   for (int s = 1; s <= k_substeps; ++s) {
     double tau_m = 0;
     if (in.torque_on) {
@@ -105,11 +106,13 @@ PlantOutput Plant::step(const PlantInput& in) {
     }
     torque_sum += tau_m;
     power_sum += tau_m * w_next;
+    brake_sum += std::max(0.0, -tau_m * w_next);
     q_ = q_next;
     w_ = w_next;
   }
   out.mean_torque = torque_sum / k_substeps;
   out.mean_power = power_sum / k_substeps;
+  out.mean_brake_power = brake_sum / k_substeps;
   return out;
 }
 

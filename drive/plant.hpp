@@ -24,9 +24,10 @@ struct PlantInput {
 };
 
 struct PlantOutput {
-  double mean_torque = 0;      // mean τ_m over the sub-steps (6078h)
-  double mean_power = 0;       // mean τ_m·w (W)
-  double torque_raw_last = 0;  // τ_raw of the last sub-step
+  double mean_torque = 0;       // mean τ_m over the sub-steps (6078h)
+  double mean_power = 0;        // mean τ_m·w (W)
+  double mean_brake_power = 0;  // mean max(0, −τ_m·w) (W), regeneration (§10.11)
+  double torque_raw_last = 0;   // τ_raw of the last sub-step
   double torque_limit_last = 0;
 };
 

@@ -76,6 +76,12 @@ PlantParams resolve_plant(const model::ModelPreset& preset, const PlantConfig& c
   p.accel_unit_num = unit.first;
   p.accel_unit_den = unit.second;
   p.homing = c.homing;
+  p.noise = c.noise;
+  if (p.noise.inc < 0) throw std::invalid_argument("plant.noise.inc must not be negative");
+  p.regen = c.regen;
+  if (p.regen.enabled && p.regen.capacitance_f <= 0) {
+    throw std::invalid_argument("plant.regen.capacitance_F must be positive");
+  }
   if (p.inertia <= 0 || p.inertia_ctrl <= 0) throw std::invalid_argument("plant inertia must be positive");
   if (p.velocity_bandwidth_hz <= 0) throw std::invalid_argument("plant.velocity_bandwidth_hz must be positive");
   if (p.torque_peak <= 0) throw std::invalid_argument("plant.torque_peak must be positive");

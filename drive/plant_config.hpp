@@ -10,7 +10,8 @@
 //   position_switches ([{"input": n, "from_inc": a, "to_inc": b}, …]), moving_threshold
 //   (rpm | mm/s), following_error_limit (inc, 0 = none), P_idle, P_cu (W), R_th (K/W), tau_th (s),
 //   temperature_available, supply_nominal_V, uv_V, ov_V, hw_enable_fitted,
-//   rotary_accel_unit ([num, den] motor rev/s² per unit, default [1, 36]);
+//   rotary_accel_unit ([num, den] motor rev/s² per unit, default [1, 36]),
+//   noise ({"enabled": false, "inc": 2, "seed": 1}), regen ({"enabled": false, "capacitance_F": 0.001});
 //   "homing": {"max_search_ms": 60000, "enable_method_18": false}.
 #pragma once
 
@@ -29,6 +30,20 @@ struct PositionSwitch {
   int input = 1;  // IN n, 1…10; must have a pin on the model
   std::int64_t from_inc = 0;
   std::int64_t to_inc = 0;
+};
+
+// Optional measurement noise (§10.8): a uniform integer in [−inc, +inc] added to the reported
+// 6063h from splitmix64(seed); 606Ch is derived from the noisy values.
+struct NoiseConfig {
+  bool enabled = false;
+  std::int64_t inc = 2;
+  std::uint64_t seed = 1;
+};
+
+// Optional regeneration into the DC link (§10.11).
+struct RegenConfig {
+  bool enabled = false;
+  double capacitance_f = 0.001;
 };
 
 struct HomingConfig {
@@ -64,6 +79,8 @@ struct PlantConfig {
   std::optional<double> supply_ov_v;
   std::optional<bool> hw_enable_fitted;
   std::optional<std::pair<std::uint64_t, std::uint64_t>> rotary_accel_unit;
+  NoiseConfig noise;
+  RegenConfig regen;
   HomingConfig homing;
 };
 
@@ -100,6 +117,8 @@ struct PlantParams {
   int hw_enable_input = 0;
   std::uint64_t accel_unit_num = 1;
   std::uint64_t accel_unit_den = 36;
+  NoiseConfig noise;
+  RegenConfig regen;
   HomingConfig homing;
 };
 

@@ -62,12 +62,14 @@ class SilentSession final : public line::StreamSession {
 // (udp-debug.md §4.7); the session's behaviour is unchanged.
 class NotedSession final : public line::StreamSession {
  public:
-  NotedSession(std::unique_ptr<line::StreamSession> inner, udp_debug::net::UdpDebugService& udp, std::string what)
-      : inner_(std::move(inner)), udp_(udp), what_(std::move(what)) {
+  NotedSession(std::unique_ptr<line::StreamSession> inner, std::weak_ptr<udp_debug::net::UdpDebugService> udp,
+               std::string what)
+      : inner_(std::move(inner)), udp_(std::move(udp)), what_(std::move(what)) {
     inner_->set_wake([this] { wake(); });
-    udp_.note(what_ + " connected");
+    note(" connected");
   }
-  ~NotedSession() override { udp_.note(what_ + " disconnected"); }
+  // A connection's last handler may run after the App is gone; then there is nobody to tell.
+  ~NotedSession() override { note(" disconnected"); }
   NotedSession(const NotedSession&) = delete;
   NotedSession& operator=(const NotedSession&) = delete;
 
@@ -78,8 +80,12 @@ class NotedSession final : public line::StreamSession {
   bool paused() const override { return inner_->paused(); }
 
  private:
+  void note(const char* event) const {
+    if (auto udp = udp_.lock()) udp->note(what_ + event);
+  }
+
   std::unique_ptr<line::StreamSession> inner_;
-  udp_debug::net::UdpDebugService& udp_;
+  std::weak_ptr<udp_debug::net::UdpDebugService> udp_;
   std::string what_;
 };
 
@@ -241,7 +247,7 @@ void App::bind_listeners() {
   } catch (const boost::system::system_error& e) {
     bind_failed("UDP debug output", settings_.bind, settings_.udp_port, "--udp-port", e);
   }
-  udp_debug_ = std::make_unique<udp_debug::net::UdpDebugService>(io_, *udp_);
+  udp_debug_ = std::make_shared<udp_debug::net::UdpDebugService>(io_, *udp_);
   udp_debug_->set_notes(udp_notes_setting(settings_.config));
 }
 
@@ -250,7 +256,7 @@ void App::bind_listeners() {
 std::unique_ptr<line::StreamSession> App::make_refgo_session(const line::net::PeerInfo& peer) {
   auto session = std::make_unique<refgo::Session>(*refgo_interpreter_);
   if (!udp_debug_->notes()) return session;
-  return std::make_unique<NotedSession>(std::move(session), *udp_debug_, "refgo client " + peer.address);
+  return std::make_unique<NotedSession>(std::move(session), udp_debug_, "refgo client " + peer.address);
 }
 
 std::unique_ptr<line::StreamSession> App::make_slcan_session(const line::net::PeerInfo&) {

@@ -91,7 +91,8 @@ class App {
   std::unique_ptr<line::net::LineServer> slcan_;
   std::unique_ptr<web::net::HttpServer> http_;
   std::unique_ptr<boost::asio::ip::udp::socket> udp_;
-  std::unique_ptr<udp_debug::net::UdpDebugService> udp_debug_;
+  // shared: RefGo sessions that outlive the App (in the io_context's handlers) hold weak references
+  std::shared_ptr<udp_debug::net::UdpDebugService> udp_debug_;
   std::unique_ptr<ClockDriver> clock_;
   bool shut_down_ = false;
 };

@@ -17,7 +17,11 @@ VelocityCommand Homing::command(double target) const {
 void Homing::enter() {
   phase_ = Phase::none;
   status_ = Status::idle;
-  if (ctx_.gen.active()) ctx_.gen.start_stop(ctx_.ramp_decel_6084());
+  if (ctx_.gen.active()) {
+    ctx_.gen.start_stop(ctx_.ramp_decel_6084());
+  } else {
+    ctx_.gen.reset(ctx_.gen.out().p);
+  }
 }
 
 void Homing::abort() {

@@ -24,7 +24,11 @@ void ProfilePosition::enter() {
   reset_reference();
   reached_ = false;
   reached_timer_.restart();
-  if (ctx_.gen.active()) ctx_.gen.start_stop(ctx_.ramp_decel_6084());
+  if (ctx_.gen.active()) {
+    ctx_.gen.start_stop(ctx_.ramp_decel_6084());
+  } else {
+    ctx_.gen.reset(ctx_.gen.out().p);  // e.g. a velocity generator at rest: hold there
+  }
 }
 
 void ProfilePosition::clear() {
@@ -155,6 +159,7 @@ void ProfilePosition::accept(std::uint16_t cw) {
     }
   }
   ctx_.emit(SetpointAccepted{sp.target_raw - ctx_.home_offset_inc, buffered});
+  if (sp.clamped) ctx_.emit(Diagnostic{DiagnosticLevel::info, "target clamped to the software position limit"});
 }
 
 void ProfilePosition::start_halt() {

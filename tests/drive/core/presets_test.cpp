@@ -149,3 +149,54 @@ TEST(Plant, LinearStrokeIsAMechanicalStop) {
 
 }  // namespace
 }  // namespace mcemu::core
+
+namespace mcemu::core {
+namespace {
+
+TEST(Plant, NoiseIsSeededBoundedAndOffByDefault) {
+  const auto trace = [](bool enabled, std::uint64_t seed) {
+    PlantConfig cfg;
+    cfg.noise.enabled = enabled;
+    cfg.noise.seed = seed;
+    test::Drive d("MC349", cfg);
+    d.enable(1);
+    std::vector<std::int64_t> v;
+    for (int k = 0; k < 200; ++k) {
+      d.step();
+      v.push_back(d.read(0x6063));
+      EXPECT_LE(std::llabs(v.back()), 2);
+      EXPECT_LE(std::llabs(d.read(0x606C)), 8);  // 4 inc per ms at most = 3.7 rpm
+    }
+    return v;
+  };
+  const auto quiet = trace(false, 1);
+  EXPECT_EQ(quiet, std::vector<std::int64_t>(200, 0));
+  const auto a = trace(true, 1);
+  EXPECT_EQ(a, trace(true, 1));
+  EXPECT_NE(a, trace(true, 2));
+  EXPECT_NE(a, quiet);
+}
+
+TEST(Plant, RegenerationCanTripOverVoltage) {
+  const auto brake = [](bool regen) {
+    PlantConfig cfg;
+    cfg.inertia_load = 2e-3;
+    cfg.inertia_ctrl = 2.02e-3;
+    cfg.regen.enabled = regen;
+    test::Drive d("MC349", cfg);
+    d.set(0x6083, 0, 200);
+    d.set(0x6085, 0, 20000);
+    d.enable(3);
+    d.set(0x60FF, 0, 2000);
+    d.step(6000);
+    EXPECT_NEAR(d.core.supply_voltage(), 48, 1e-9) << "motoring does not charge the link";
+    d.cw(0x02);
+    d.step(2000);
+    return d.read(0x603F);
+  };
+  EXPECT_EQ(brake(true), 0x3211);
+  EXPECT_EQ(brake(false), 0);
+}
+
+}  // namespace
+}  // namespace mcemu::core

@@ -468,6 +468,20 @@ TEST(NoMode, HoldsPositionAndReportsTargetReached) {
   EXPECT_EQ(d.sw(), 0x0427);
 }
 
+TEST(ModeSwitch, FromVelocityAtRestToPositionStartsSetPointsAtOnce) {
+  Drive d;
+  d.enable(3);
+  d.step(10);
+  d.set(0x6060, 0, 1);
+  d.step(101);
+  EXPECT_TRUE(d.sw() & 0x0400) << "the held position counts as reached";
+  start(d, 3000, 0x0F, 0x1F);  // set of set-points: starts at once only when the generator is idle
+  EXPECT_FALSE(d.of<SetpointAccepted>().back().buffered);
+  d.step(500);
+  EXPECT_EQ(d.read(0x60FC), 3000);
+  EXPECT_TRUE(d.sw() & 0x0400);
+}
+
 TEST(ModeSwitch, BumplessFromVelocityToPosition) {
   Drive d;
   d.enable(3);
