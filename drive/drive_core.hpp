@@ -65,6 +65,10 @@ class DriveCore {
   double i2t_energy_max() const { return thermal_.energy_max(); }
   bool injected(FaultCause cause) const { return (injected_ >> static_cast<int>(cause)) & 1u; }
   const PlantParams& plant_params() const { return params_; }
+  // the current unit conversions (§3), for components that report in user units (iofunc)
+  const Scaling& scaling() const { return ctx_.scaling; }
+  // Software Enable condition of §4.6 on the current 60FDh (true when no input has function 9)
+  bool software_enabled() const { return sw_enable_ok(); }
 
   // ---- commands used by the helpers (§12)
   void apply_mode_switch_now();      // §6.3 at once

@@ -6,6 +6,7 @@
 #include <boost/asio/ip/address.hpp>
 #include <ctime>
 
+#include "iofunc/io_functions.hpp"
 #include "persistence/service.hpp"
 #include "persistence/state_dir.hpp"
 #include "persistence/worker_storage.hpp"
@@ -150,6 +151,8 @@ void App::build_drive() {
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("invalid plant configuration in --config: ") + e.what());
   }
+  // The I/O functions wrap the core: they step it and power it on (iofunc.md §3).
+  iofunc_ = std::make_unique<iofunc::IoFunctions>(*od_, *core_);
 
   storage_ = std::make_unique<persistence::WorkerStorage>(io_, state_dir_->state_file(),
                                                           persistence::write_options_from_environment());
@@ -157,11 +160,11 @@ void App::build_drive() {
   hooks.now_utc = utc_iso8601;
   hooks.operation_enabled = [this] { return core_->state() == core::PdsState::operation_enabled; };
   hooks.home_offset_inc = [this] { return core_->home_offset_inc(); };
-  hooks.after_restore = [this] { core_->reload_parameters(); };
+  hooks.after_restore = [this] { iofunc_->after_bulk_load(); };
   persistence_ = std::make_unique<persistence::Service>(*od_, preset_.name, MCEMU_VERSION, std::move(factory),
                                                         std::move(on_file), *storage_, std::move(hooks));
   refgo_interpreter_ = std::make_unique<refgo::Interpreter>(*od_, *core_);
-  core_->power_on();
+  iofunc_->power_on();
 }
 
 std::string App::active_ip() const {
@@ -263,12 +266,19 @@ std::unique_ptr<line::StreamSession> App::make_slcan_session(const line::net::Pe
 // One simulation step of 1 ms (drive-core.md §2), called by the clock driver; the RefGo programs
 // (jog timer, Back & Forth) follow in the same drive time.
 void App::step() {
-  core_->step();
+  iofunc_->step();
   refgo_interpreter_->on_step();
   on_core_events();
 }
 
 void App::on_core_events() {
+  for (const auto& d : iofunc_->drain_diagnostics()) {
+    if (d.level == core::DiagnosticLevel::warning) {
+      spdlog::warn("I/O function: {}", d.text);
+    } else {
+      spdlog::debug("I/O function: {}", d.text);
+    }
+  }
   for (const auto& e : core_->drain_events()) {
     if (const auto* f = std::get_if<core::FaultRaised>(&e)) {
       udp_debug_->note(udp_debug::fault_text(f->code));
