@@ -9,7 +9,7 @@
 //   power_on(). A write of 6040h acts inside the write call (§2.5); 6041h is current when it returns.
 // - Events (§13) queue up until drain_events(); the inputs observer is called synchronously on
 //   every change of 60FDh and must not write objects.
-// - Not copyable or movable (hooks capture `this`).
+// - Not copyable or movable (hooks capture `this`); the destructor removes the hooks again.
 #pragma once
 
 #include <chrono>
@@ -39,6 +39,7 @@ class DriveCore {
  public:
   // Throws std::invalid_argument for an invalid plant configuration (resolve_plant()).
   DriveCore(const model::ModelPreset& preset, od::ObjectDictionary& od, const PlantConfig& plant_config = {});
+  ~DriveCore();  // removes the hooks it registered
   DriveCore(const DriveCore&) = delete;
   DriveCore& operator=(const DriveCore&) = delete;
 
@@ -101,6 +102,8 @@ class DriveCore {
 
   // drive_core.cpp
   void install_hooks();
+  void hook_write(std::uint16_t index, std::uint8_t sub, od::WriteHook hook);
+  void hook_read(std::uint16_t index, std::uint8_t sub, od::ReadHook hook);
   void update_scaling();
   void update_inertia_ctrl(std::optional<std::int64_t> weight, std::optional<std::int64_t> payload);
   // drive_core_pds.cpp
@@ -195,6 +198,8 @@ class DriveCore {
   std::uint64_t fault_reset_prev_ = 0;
 
   InputsObserver observer_;
+  std::vector<std::pair<std::uint16_t, std::uint8_t>> write_hooks_;
+  std::vector<std::pair<std::uint16_t, std::uint8_t>> read_hooks_;
 };
 
 }  // namespace mcemu::core
