@@ -28,6 +28,21 @@ DriveCore::DriveCore(const model::ModelPreset& preset, od::ObjectDictionary& od,
   install_read_hooks();
 }
 
+DriveCore::~DriveCore() {
+  for (const auto& [index, sub] : write_hooks_) ctx_.od.on_write(index, sub, {});
+  for (const auto& [index, sub] : read_hooks_) ctx_.od.on_read(index, sub, {});
+}
+
+void DriveCore::hook_write(std::uint16_t index, std::uint8_t sub, od::WriteHook hook) {
+  ctx_.od.on_write(index, sub, std::move(hook));
+  write_hooks_.emplace_back(index, sub);
+}
+
+void DriveCore::hook_read(std::uint16_t index, std::uint8_t sub, od::ReadHook hook) {
+  ctx_.od.on_read(index, sub, std::move(hook));
+  read_hooks_.emplace_back(index, sub);
+}
+
 void DriveCore::update_scaling() {
   const auto& h = ctx_.h;
   FactorGroup fg;
@@ -52,8 +67,7 @@ void DriveCore::update_inertia_ctrl(std::optional<std::int64_t> weight, std::opt
 }
 
 void DriveCore::install_hooks() {
-  auto& od = ctx_.od;
-  od.on_write(0x6040, 0, [this](od::WriteRequest& req) {
+  hook_write(0x6040, 0, [this](od::WriteRequest& req) {
     return on_controlword(static_cast<std::uint16_t>(as_int(req.value)),
                           static_cast<std::uint16_t>(as_int(req.stored)));
   });
@@ -64,7 +78,7 @@ void DriveCore::install_hooks() {
   };
   for (const Sub s : {Sub{0x608F, 1}, Sub{0x608F, 2}, Sub{0x6091, 1}, Sub{0x6091, 2}, Sub{0x6092, 1}, Sub{0x6092, 2},
                       Sub{0x607E, 0}}) {
-    od.on_write(s.index, s.sub, [this, s](od::WriteRequest& req) {
+    hook_write(s.index, s.sub, [this, s](od::WriteRequest& req) {
       const auto& h = ctx_.h;
       FactorGroup fg;
       fg.encoder_inc = static_cast<std::uint64_t>(ctx_.num(h.enc_inc));
@@ -92,23 +106,23 @@ void DriveCore::install_hooks() {
   }
   if (preset_.is_rabbit()) {
     // decel follows accel (§7.7)
-    od.on_write(0x6083, 0, [this](od::WriteRequest& req) {
+    hook_write(0x6083, 0, [this](od::WriteRequest& req) {
       ctx_.od.set(ctx_.h.profile_dec, req.value);
       return od::AbortCode::none;
     });
     if (ctx_.h.motor_weight && ctx_.h.payload) {
-      od.on_write(0x3300, 0x07, [this](od::WriteRequest& req) {
+      hook_write(0x3300, 0x07, [this](od::WriteRequest& req) {
         update_inertia_ctrl(as_int(req.value), std::nullopt);
         return od::AbortCode::none;
       });
-      od.on_write(0x3301, 0x04, [this](od::WriteRequest& req) {
+      hook_write(0x3301, 0x04, [this](od::WriteRequest& req) {
         update_inertia_ctrl(std::nullopt, as_int(req.value));
         return od::AbortCode::none;
       });
     }
   }
   for (std::uint8_t sub : {std::uint8_t{1}, std::uint8_t{2}}) {
-    od.on_write(0x607D, sub, [this, sub](od::WriteRequest& req) {
+    hook_write(0x607D, sub, [this, sub](od::WriteRequest& req) {
       if (!powered_ || state_ != PdsState::operation_enabled || mode_ != 1) return od::AbortCode::none;
       SoftLimits lim;
       lim.min_user = sub == 1 ? as_int(req.value) : ctx_.num(ctx_.h.limit_min);
@@ -119,7 +133,7 @@ void DriveCore::install_hooks() {
       return od::AbortCode::none;
     });
   }
-  od.on_write(0x60FF, 0, [this](od::WriteRequest& req) {
+  hook_write(0x60FF, 0, [this](od::WriteRequest& req) {
     if (powered_ && as_int(req.value) != as_int(req.stored) && state_ == PdsState::operation_enabled && mode_ == 3) {
       stroke_hold_ = false;
       pv_.on_run_command();

@@ -9,7 +9,7 @@
 //   power_on(). A write of 6040h acts inside the write call (§2.5); 6041h is current when it returns.
 // - Events (§13) queue up until drain_events(); the inputs observer is called synchronously on
 //   every change of 60FDh and must not write objects.
-// - Not copyable or movable (hooks capture `this`).
+// - Not copyable or movable (hooks capture `this`); the destructor removes the hooks again.
 #pragma once
 
 #include <chrono>
@@ -39,6 +39,7 @@ class DriveCore {
  public:
   // Throws std::invalid_argument for an invalid plant configuration (resolve_plant()).
   DriveCore(const model::ModelPreset& preset, od::ObjectDictionary& od, const PlantConfig& plant_config = {});
+  ~DriveCore();  // removes the hooks it registered
   DriveCore(const DriveCore&) = delete;
   DriveCore& operator=(const DriveCore&) = delete;
 
@@ -65,6 +66,10 @@ class DriveCore {
   double i2t_energy_max() const { return thermal_.energy_max(); }
   bool injected(FaultCause cause) const { return (injected_ >> static_cast<int>(cause)) & 1u; }
   const PlantParams& plant_params() const { return params_; }
+  // the current unit conversions (§3), for components that report in user units (iofunc)
+  const Scaling& scaling() const { return ctx_.scaling; }
+  // Software Enable condition of §4.6 on the current 60FDh (true when no input has function 9)
+  bool software_enabled() const { return sw_enable_ok(); }
 
   // ---- commands used by the helpers (§12)
   void apply_mode_switch_now();      // §6.3 at once
@@ -97,6 +102,8 @@ class DriveCore {
 
   // drive_core.cpp
   void install_hooks();
+  void hook_write(std::uint16_t index, std::uint8_t sub, od::WriteHook hook);
+  void hook_read(std::uint16_t index, std::uint8_t sub, od::ReadHook hook);
   void update_scaling();
   void update_inertia_ctrl(std::optional<std::int64_t> weight, std::optional<std::int64_t> payload);
   // drive_core_pds.cpp
@@ -191,6 +198,8 @@ class DriveCore {
   std::uint64_t fault_reset_prev_ = 0;
 
   InputsObserver observer_;
+  std::vector<std::pair<std::uint16_t, std::uint8_t>> write_hooks_;
+  std::vector<std::pair<std::uint16_t, std::uint8_t>> read_hooks_;
 };
 
 }  // namespace mcemu::core

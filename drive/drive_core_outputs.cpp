@@ -146,40 +146,38 @@ void DriveCore::update_statusword() {
 }
 
 void DriveCore::install_read_hooks() {
-  auto& od = ctx_.od;
   const auto base = preset_.base;
   const auto number = [](std::int64_t v) { return od::Result<od::Value>(od::Value{v}); };
   if (base == model::Base::mc349 || base == model::Base::mcn23) {
-    od.on_read(0x3401, 0x0B, [this, number](const od::EntryInfo&) {
+    hook_read(0x3401, 0x0B, [this, number](const od::EntryInfo&) {
       const double i = std::fabs(static_cast<double>(current_permille_)) / 1000.0;
       const double p = plant_out_.mean_power + params_.p_cu_w * i * i;
       return number(std::clamp<std::int64_t>(round_half_away(p), -32768, 32767));
     });
   }
   if (base == model::Base::mc349) {
-    od.on_read(0x3401, 0x1D, [this, number](const od::EntryInfo&) { return number(wrap_i32(ctx_.actual_inc())); });
+    hook_read(0x3401, 0x1D, [this, number](const od::EntryInfo&) { return number(wrap_i32(ctx_.actual_inc())); });
   }
   if (preset_.ae_extras) {
-    od.on_read(0x3401, 0x1F, [this, number](const od::EntryInfo&) {
+    hook_read(0x3401, 0x1F, [this, number](const od::EntryInfo&) {
       const std::int64_t turns =
           ctx_.actual_inc() >= 0 ? ctx_.actual_inc() / 65536 : -((-ctx_.actual_inc() + 65535) / 65536);
       return number(static_cast<std::int16_t>(static_cast<std::uint16_t>(turns)));
     });
-    od.on_read(0x3401, 0x20,
-               [this, number](const od::EntryInfo&) { return number(floor_mod(ctx_.actual_inc(), 65536)); });
+    hook_read(0x3401, 0x20,
+              [this, number](const od::EntryInfo&) { return number(floor_mod(ctx_.actual_inc(), 65536)); });
   }
   if (base == model::Base::mcn23) {
-    od.on_read(0x3401, 0x23, [this, number](const od::EntryInfo&) {
+    hook_read(0x3401, 0x23, [this, number](const od::EntryInfo&) {
       return number(std::max<std::int64_t>(0, round_half_away(temperature_c())));
     });
-    od.on_read(0x5000, 0x03, [this, number](const od::EntryInfo&) { return number(wrap_i32(ctx_.actual_inc())); });
-    od.on_read(0x5000, 0x04, [this, number](const od::EntryInfo&) {
-      return number(wrap_i32(ctx_.demand_inc() - ctx_.actual_inc()));
-    });
-    od.on_read(0x5000, 0x05, [this, number](const od::EntryInfo&) {
+    hook_read(0x5000, 0x03, [this, number](const od::EntryInfo&) { return number(wrap_i32(ctx_.actual_inc())); });
+    hook_read(0x5000, 0x04,
+              [this, number](const od::EntryInfo&) { return number(wrap_i32(ctx_.demand_inc() - ctx_.actual_inc())); });
+    hook_read(0x5000, 0x05, [this, number](const od::EntryInfo&) {
       return number(std::clamp<std::int64_t>(round_half_away(ctx_.actual_velocity_inc_s), INT32_MIN, INT32_MAX));
     });
-    od.on_read(0x5002, 0x0E, [this, number](const od::EntryInfo&) { return number(wrap_i32(ctx_.actual_inc())); });
+    hook_read(0x5002, 0x0E, [this, number](const od::EntryInfo&) { return number(wrap_i32(ctx_.actual_inc())); });
   }
 }
 

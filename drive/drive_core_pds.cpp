@@ -231,11 +231,17 @@ void DriveCore::timed_transitions() {
 
 // ---- enable checks (§4.6)
 
+// A 9 in the high byte requires the input high, else a 9 in the low byte requires it low
+// (iofunc.md §4.11); all such inputs must agree.
 bool DriveCore::sw_enable_ok() const {
   for (int i = 0; i < 10; ++i) {
     const std::int64_t f = ctx_.num(ctx_.h.input_function[static_cast<std::size_t>(i)]);
-    if (f == 0x0900 && !ctx_.input_level(i + 1)) return false;
-    if (f == 0x0009 && ctx_.input_level(i + 1)) return false;
+    const bool level = ctx_.input_level(i + 1);
+    if (((f >> 8) & 0xFF) == 9) {
+      if (!level) return false;
+    } else if ((f & 0xFF) == 9 && level) {
+      return false;
+    }
   }
   return true;
 }

@@ -7,6 +7,7 @@
 #include <ctime>
 
 #include "drive/od/model_tables.hpp"
+#include "iofunc/io_functions.hpp"
 #include "persistence/service.hpp"
 #include "persistence/state_dir.hpp"
 #include "persistence/worker_storage.hpp"
@@ -149,6 +150,8 @@ void App::build_drive() {
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("invalid plant configuration in --config: ") + e.what());
   }
+  // The I/O functions wrap the core: they step it and power it on (iofunc.md §3).
+  iofunc_ = std::make_unique<iofunc::IoFunctions>(*od_, *core_);
 
   storage_ = std::make_unique<persistence::WorkerStorage>(io_, state_dir_->state_file(),
                                                           persistence::write_options_from_environment());
@@ -157,13 +160,13 @@ void App::build_drive() {
   hooks.operation_enabled = [this] { return core_->state() == core::PdsState::operation_enabled; };
   hooks.home_offset_inc = [this] { return core_->home_offset_inc(); };
   hooks.after_restore = [this] {
-    core_->reload_parameters();
+    iofunc_->after_bulk_load();
     if (canopen_) canopen_->node().reload();
   };
   persistence_ = std::make_unique<persistence::Service>(*od_, preset_.name, MCEMU_VERSION, std::move(factory),
                                                         std::move(on_file), *storage_, std::move(hooks));
   refgo_interpreter_ = std::make_unique<refgo::Interpreter>(*od_, *core_);
-  core_->power_on();
+  iofunc_->power_on();
 }
 
 std::string App::active_ip() const {
@@ -267,13 +270,20 @@ std::unique_ptr<line::StreamSession> App::make_slcan_session(const line::net::Pe
 // (jog timer, Back & Forth) follow in the same drive time, then the CANopen node (its TPDOs see
 // this step's values, its EMCYs come from this step's events).
 void App::step() {
-  core_->step();
+  iofunc_->step();
   refgo_interpreter_->on_step();
   on_core_events();
   canopen_->step();
 }
 
 void App::on_core_events() {
+  for (const auto& d : iofunc_->drain_diagnostics()) {
+    if (d.level == core::DiagnosticLevel::warning) {
+      spdlog::warn("I/O function: {}", d.text);
+    } else {
+      spdlog::debug("I/O function: {}", d.text);
+    }
+  }
   for (const auto& e : core_->drain_events()) {
     if (const auto* emcy = std::get_if<core::Emcy>(&e)) {
       if (canopen_) canopen_->node().emit_emcy(emcy->code, emcy->reg, emcy->data);
@@ -301,7 +311,7 @@ void App::build_canopen() {
   hooks.reset_node = [this] {  // the drive part of a power cycle (persistence.md §7)
     const core::PowerOnState keep{core_->raw_position_inc(), core_->home_offset_inc()};
     rebuild_ram_image();
-    core_->power_on(keep);
+    iofunc_->power_on(keep);  // the core's power_on() and iofunc's volatile state
     on_core_events();
   };
   hooks.reset_communication = [this] { reload_communication_objects(); };

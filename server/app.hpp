@@ -38,6 +38,10 @@ class StateDir;
 class WorkerStorage;
 }  // namespace mcemu::persistence
 
+namespace mcemu::iofunc {
+class IoFunctions;
+}
+
 namespace mcemu::server {
 
 class ClockDriver;
@@ -86,6 +90,7 @@ class App {
   model::ModelPreset preset_;
   std::unique_ptr<od::ObjectDictionary> od_;
   std::unique_ptr<core::DriveCore> core_;
+  std::unique_ptr<iofunc::IoFunctions> iofunc_;  // steps and powers the core (iofunc.md §3)
   std::unique_ptr<persistence::StateDir> state_dir_;
   std::unique_ptr<persistence::WorkerStorage> storage_;
   std::unique_ptr<persistence::Service> persistence_;

@@ -223,6 +223,25 @@ TEST(Mirrors, ComputedOnRead) {
   EXPECT_EQ(n23.read(0x5000, 0x04), 0);
 }
 
+TEST(Lifetime, DestroyedCoreLeavesAPlainDictionary) {
+  const auto preset = test::preset_of("MC349");
+  od::ObjectDictionary od(preset);
+  {
+    DriveCore core(preset, od);
+    core.power_on();
+    core.step();
+    EXPECT_EQ(od.write(0x6040, 0, od::Value{std::int64_t{6}}, od::Origin::sdo), od::AbortCode::none);
+    EXPECT_EQ(*od.read_number(0x6041, 0), 0x21);
+  }
+  EXPECT_EQ(od.write(0x6040, 0, od::Value{std::int64_t{7}}, od::Origin::sdo), od::AbortCode::none);
+  EXPECT_EQ(*od.read_number(0x6041, 0), 0x21) << "no hook runs any more";
+  EXPECT_EQ(*od.read_number(0x3401, 0x1D), 0) << "no read hook either";
+  DriveCore again(preset, od);  // a new core can take over the same dictionary
+  again.power_on();
+  again.step();
+  EXPECT_EQ(*od.read_number(0x6041, 0), 0x40);
+}
+
 TEST(PowerOn, IncrementalStartsAtZeroAbsoluteKeepsHomeOffset) {
   Drive re("MC349", {}, false);
   re.core.power_on(PowerOnState{123456, 999});
