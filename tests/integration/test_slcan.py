@@ -325,6 +325,17 @@ class Emcy(Base):
 
 
 class Store(Base):
+    def test_restore_refused_in_operation_enabled(self):  # OTH-05 over TCP with the real core and persistence
+        c = self.client()
+        for cw in (0x06, 0x07, 0x0F):
+            c.download(0x6040, 0, struct.pack("<H", cw))
+        self.assertEqual(c.upload(0x6041, 0)[0] & 0x6F, 0x27)
+        self.assertEqual(c.sdo(bytes.fromhex("231110016C6F6164")), bytes.fromhex("8011100122000008"))
+        c.download(0x6040, 0, struct.pack("<H", 0x06))
+        c.download(0x1017, 0, struct.pack("<H", 300))
+        self.assertEqual(c.sdo(bytes.fromhex("231110016C6F6164")), bytes.fromhex("6011100100000000"))
+        self.assertEqual(c.upload(0x1017, 0), b"\x00\x00")  # factory values at once (OTH-04)
+
     def test_oth01_store_survives_a_restart(self):  # OTH-01 ★
         c = self.client()
         c.download(0x1017, 0, struct.pack("<H", 250))

@@ -279,6 +279,16 @@ TEST(Sdo, StoppedEndsARunningTransferSilently) {
   EXPECT_EQ(h.wait(3000ms), "");
 }
 
+TEST(Sdo, HookFailuresAreGeneralErrors) {  // §6.9 0x08000000
+  Harness h("MC349", {}, true);
+  h.od->on_write(0x2F03, 0, [](od::WriteRequest&) { return od::AbortCode::general; });
+  h.od->on_read(0x2F03, 0, [](const od::EntryInfo&) -> od::Result<od::Value> { return od::AbortCode::general; });
+  h.boot();
+  EXPECT_EQ(h.send(sdo({0x2F, 0x03, 0x2F, 0x00, 1})), abort_line(0x2F03, 0, 0x08000000));
+  EXPECT_EQ(h.send(sdo({0x40, 0x03, 0x2F, 0x00})), abort_line(0x2F03, 0, 0x08000000));
+  EXPECT_EQ(h.send(sdo({0xA4, 0x03, 0x2F, 0x00, 127})), abort_line(0x2F03, 0, 0x08000000));
+}
+
 TEST(Sdo, LengthTolerantEntryAcceptsFourBytes) {
   Harness h;
   h.boot();
