@@ -331,7 +331,8 @@ class Store(Base):
             c.download(0x6040, 0, struct.pack("<H", cw))
         self.assertEqual(c.upload(0x6041, 0)[0] & 0x6F, 0x27)
         self.assertEqual(c.sdo(bytes.fromhex("231110016C6F6164")), bytes.fromhex("8011100122000008"))
-        c.download(0x6040, 0, struct.pack("<H", 0x06))
+        c.download(0x6040, 0, struct.pack("<H", 0x06))  # shutdown: leaves Operation Enabled after its ramp
+        wait_for(lambda: c.upload(0x6041, 0)[0] & 0x6F == 0x21, timeout=5, what="Ready to switch on")
         c.download(0x1017, 0, struct.pack("<H", 300))
         self.assertEqual(c.sdo(bytes.fromhex("231110016C6F6164")), bytes.fromhex("6011100100000000"))
         self.assertEqual(c.upload(0x1017, 0), b"\x00\x00")  # factory values at once (OTH-04)
