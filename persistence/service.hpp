@@ -47,6 +47,9 @@ class Service {
           std::optional<Image> on_file, Storage& storage, ServiceHooks hooks);
 
   const Image& factory() const { return factory_; }
+  // What the state file holds now (nullopt if nothing was stored): NMT reset node / reset
+  // communication rebuild RAM from factory() + on_file() (persistence.md §5, §7).
+  const std::optional<Image>& on_file() const { return durable_; }
   // The uploaded script of the program group (null = placeholder); scripting sets it.
   const nlohmann::json& script() const { return script_; }
   void set_script(nlohmann::json script) { script_ = std::move(script); }

@@ -6,15 +6,19 @@
 #include <boost/asio/ip/address.hpp>
 #include <ctime>
 
+#include "drive/od/model_tables.hpp"
 #include "iofunc/io_functions.hpp"
 #include "persistence/service.hpp"
 #include "persistence/state_dir.hpp"
 #include "persistence/worker_storage.hpp"
+#include "protocols/canopen/comm_reload.hpp"
+#include "protocols/canopen/dynamic_mapping.hpp"
 #include "protocols/line/net/line_server.hpp"
 #include "protocols/refgo/interpreter.hpp"
 #include "protocols/refgo/session.hpp"
 #include "protocols/udp_debug/messages.hpp"
 #include "protocols/udp_debug/net/udp_debug_service.hpp"
+#include "server/canopen_bus.hpp"
 #include "server/clock_driver.hpp"
 #include "server/drive_image.hpp"
 #include "server/plant_settings.hpp"
@@ -44,19 +48,6 @@ std::string utc_format(const char* fmt) {
   throw StartupError("cannot listen on " + bind + ":" + std::to_string(port) + " for " + service + " (" +
                      e.code().message() + "); choose another port with " + flag);
 }
-
-// Placeholder session for the SLCAN port until its protocol engine is wired: the listener, its
-// limits and socket options exist from the foundation on (issue 2).
-class SilentSession final : public line::StreamSession {
- public:
-  void receive(std::string_view) override {}
-  std::string take_output() override { return {}; }
-  void peer_closed() override { done_ = true; }
-  bool finished() const override { return done_; }
-
- private:
-  bool done_ = false;
-};
 
 // Wraps a session to report the client's connect and disconnect as UDP emulator notes
 // (udp-debug.md §4.7); the session's behaviour is unchanged.
@@ -105,7 +96,9 @@ std::string utc_iso8601() { return utc_format("%Y-%m-%dT%H:%M:%SZ"); }
 std::string utc_compact() { return utc_format("%Y%m%dT%H%M%SZ"); }
 
 App::App(asio::io_context& io, Settings settings) : io_(io), settings_(std::move(settings)) {
+  parse_canopen_config();
   build_drive();
+  build_canopen();
   bind_listeners();
 }
 
@@ -113,7 +106,13 @@ App::~App() { shutdown(); }
 
 void App::build_drive() {
   preset_ = make_preset(settings_);
-  od_ = std::make_unique<od::ObjectDictionary>(preset_);
+  if (canopen_config_.dynamic_pdo_mapping) {  // slcan-canopen.md §9.7: rw mapping objects
+    auto entries = od::build_entries(preset_);
+    canopen::make_mapping_dynamic(entries);
+    od_ = std::make_unique<od::ObjectDictionary>(std::move(entries));
+  } else {
+    od_ = std::make_unique<od::ObjectDictionary>(preset_);
+  }
   apply_config_objects(*od_, settings_.config);
   persistence::Image factory = persistence::snapshot(*od_);
 
@@ -160,7 +159,10 @@ void App::build_drive() {
   hooks.now_utc = utc_iso8601;
   hooks.operation_enabled = [this] { return core_->state() == core::PdsState::operation_enabled; };
   hooks.home_offset_inc = [this] { return core_->home_offset_inc(); };
-  hooks.after_restore = [this] { iofunc_->after_bulk_load(); };
+  hooks.after_restore = [this] {
+    iofunc_->after_bulk_load();
+    if (canopen_) canopen_->node().reload();
+  };
   persistence_ = std::make_unique<persistence::Service>(*od_, preset_.name, MCEMU_VERSION, std::move(factory),
                                                         std::move(on_file), *storage_, std::move(hooks));
   refgo_interpreter_ = std::make_unique<refgo::Interpreter>(*od_, *core_);
@@ -192,6 +194,7 @@ void App::bind_listeners() {
     o.flag = flag;
     o.max_clients = max_clients;
     o.close_on_overflow = close_on_overflow;
+    if (close_on_overflow) o.pause_above = slcan_config_.queue_limit_bytes;
     try {
       return std::make_unique<line::net::LineServer>(io_, tcp::endpoint(address, port), o, std::move(factory));
     } catch (const boost::system::system_error& e) {
@@ -260,15 +263,17 @@ std::unique_ptr<line::StreamSession> App::make_refgo_session(const line::net::Pe
 }
 
 std::unique_ptr<line::StreamSession> App::make_slcan_session(const line::net::PeerInfo&) {
-  return std::make_unique<SilentSession>();
+  return canopen_->make_session();
 }
 
 // One simulation step of 1 ms (drive-core.md §2), called by the clock driver; the RefGo programs
-// (jog timer, Back & Forth) follow in the same drive time.
+// (jog timer, Back & Forth) follow in the same drive time, then the CANopen node (its TPDOs see
+// this step's values, its EMCYs come from this step's events).
 void App::step() {
   iofunc_->step();
   refgo_interpreter_->on_step();
   on_core_events();
+  canopen_->step();
 }
 
 void App::on_core_events() {
@@ -280,12 +285,74 @@ void App::on_core_events() {
     }
   }
   for (const auto& e : core_->drain_events()) {
-    if (const auto* f = std::get_if<core::FaultRaised>(&e)) {
+    if (const auto* emcy = std::get_if<core::Emcy>(&e)) {
+      if (canopen_) canopen_->node().emit_emcy(emcy->code, emcy->reg, emcy->data);
+    } else if (const auto* f = std::get_if<core::FaultRaised>(&e)) {
       udp_debug_->note(udp_debug::fault_text(f->code));
     } else if (std::holds_alternative<core::FaultResetDone>(e)) {
       udp_debug_->note("fault cleared");
     }
   }
+}
+
+// ---- CANopen node on the SLCAN port (slcan-canopen.md) ----------------------------------------
+
+void App::parse_canopen_config() {
+  try {
+    slcan_config_ = slcan::slcan_config_from_json(settings_.config.value("slcan", nlohmann::json::object()));
+    canopen_config_ = canopen::canopen_config_from_json(settings_.config.value("canopen", nlohmann::json::object()));
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("config: ") + e.what());
+  }
+}
+
+void App::build_canopen() {
+  canopen::Node::Hooks hooks;
+  hooks.reset_node = [this] {  // the drive part of a power cycle (persistence.md §7)
+    const core::PowerOnState keep{core_->raw_position_inc(), core_->home_offset_inc()};
+    rebuild_ram_image();
+    iofunc_->power_on(keep);  // the core's power_on() and iofunc's volatile state
+    on_core_events();
+  };
+  hooks.reset_communication = [this] { reload_communication_objects(); };
+  hooks.connection_lost = [this] {  // life guarding expired (slcan-canopen.md §5.2)
+    core_->connection_lost();
+    on_core_events();
+  };
+  // EMCYs raised by an SDO/RPDO write go out after that write's SDO response (§2 ordering)
+  hooks.after_od_write = [this] { on_core_events(); };
+  hooks.diagnostic = [](const std::string& text) { spdlog::debug("canopen: {}", text); };
+  canopen_ = std::make_unique<CanopenBus>(*od_, slcan_config_, canopen_config_, std::move(hooks));
+}
+
+// NMT reset node: the drive part of a power cycle (persistence.md §5, §7): RAM image = factory
+// image (preset, then --config "objects") overlaid with the file as it is on disk now, then an
+// explicit --ip. Live values, constants and command entries are the core's and the OD's own.
+void App::rebuild_ram_image() {
+  std::vector<od::StoredValue> image;
+  od_->for_each([&](const od::EntryInfo& e, const od::Value&) {
+    if (e.cls == od::EntryClass::param || e.cls == od::EntryClass::comm || e.cls == od::EntryClass::proc) {
+      image.push_back({e.index, e.sub, e.factory});
+    }
+  });
+  od_->load_values(image);
+  apply_config_objects(*od_, settings_.config);
+  if (const auto& file = persistence_->on_file()) od_->load_values(file->objects);
+  if (settings_.ip_explicit) {
+    const auto octets = parse_ipv4(settings_.ip, "--ip");
+    std::vector<od::StoredValue> ip;
+    for (std::uint8_t s = 1; s <= 4; ++s) ip.push_back({0x5007, s, od::Value{std::int64_t{octets[s - 1]}}});
+    od_->load_values(ip);
+  }
+  spdlog::info("canopen: NMT reset node: drive image rebuilt from the factory image and the state file");
+}
+
+// NMT reset communication: 1000h–1FFFh and 3404h.03 from the factory image and the file.
+void App::reload_communication_objects() {
+  const auto& file = persistence_->on_file();
+  canopen::reload_communication_objects(
+      *od_, persistence_->factory().objects,
+      file ? std::span<const od::StoredValue>(file->objects) : std::span<const od::StoredValue>());
 }
 
 // The UDP debug console starts with the start-up block of this power-up (udp-debug.md §4.1).
@@ -315,6 +382,11 @@ void App::start() {
   slcan_->start();
   http_->start();
   start_udp_receive();
+  // Run the drive to the CANopen node's boot-up before the loop serves any connection
+  // (docs/decisions/0004): "ready" means the node answers. After the UDP power-up block, so that
+  // notes of these first steps follow it.
+  canopen_->power_on();
+  for (int i = 0; i < 1000 && canopen_->node().state() == canopen::NmtState::initialising; ++i) step();
   clock_ = std::make_unique<ClockDriver>(io_, [this] { step(); });
   clock_->start();
   spdlog::info("mcemu {} ready", MCEMU_VERSION);

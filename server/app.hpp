@@ -12,6 +12,8 @@
 #include "drive/drive_core.hpp"
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
+#include "protocols/canopen/config.hpp"
+#include "protocols/slcan/config.hpp"
 #include "server/settings.hpp"
 
 namespace mcemu::line {
@@ -43,6 +45,7 @@ class IoFunctions;
 namespace mcemu::server {
 
 class ClockDriver;
+class CanopenBus;
 
 // A start-up failure that ends the process with one line and exit status 1 (e.g. a port in use).
 struct StartupError : std::runtime_error {
@@ -76,6 +79,11 @@ class App {
   std::string active_ip() const;
   std::string active_mask() const;
   std::string script_id() const;
+  // CANopen node on the SLCAN port (slcan-canopen.md): bus, and the NMT resets it asks for.
+  void parse_canopen_config();
+  void build_canopen();
+  void rebuild_ram_image();
+  void reload_communication_objects();
 
   boost::asio::io_context& io_;
   Settings settings_;
@@ -94,6 +102,9 @@ class App {
   // shared: RefGo sessions that outlive the App (in the io_context's handlers) hold weak references
   std::shared_ptr<udp_debug::net::UdpDebugService> udp_debug_;
   std::unique_ptr<ClockDriver> clock_;
+  slcan::SlcanConfig slcan_config_;
+  canopen::CanopenConfig canopen_config_;
+  std::unique_ptr<CanopenBus> canopen_;
   bool shut_down_ = false;
 };
 
