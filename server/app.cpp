@@ -8,6 +8,7 @@
 
 #include "drive/od/model_tables.hpp"
 #include "iofunc/io_functions.hpp"
+#include "persistence/atomic_file.hpp"
 #include "persistence/service.hpp"
 #include "persistence/state_dir.hpp"
 #include "persistence/worker_storage.hpp"
@@ -133,16 +134,10 @@ void App::build_drive() {
     on_file = loaded->image;
   }
 
-  // The active IP address: --ip given explicitly > stored 5007h > factory (persistence.md §6).
-  if (settings_.ip_explicit) {
-    const auto octets = parse_ipv4(settings_.ip, "--ip");
-    const std::string stored = active_ip();
-    std::vector<od::StoredValue> ip;
-    for (std::uint8_t s = 1; s <= 4; ++s) ip.push_back({0x5007, s, od::Value{std::int64_t{octets[s - 1]}}});
-    od_->load_values(ip);
-    if (on_file && stored != settings_.ip) {
-      spdlog::info("--ip {} overrides the stored address {}", settings_.ip, stored);
-    }
+  const std::string stored_ip = active_ip();
+  apply_explicit_ip();
+  if (settings_.ip_explicit && on_file && stored_ip != settings_.ip) {
+    spdlog::info("--ip {} overrides the stored address {}", settings_.ip, stored_ip);
   }
 
   try {
@@ -166,7 +161,34 @@ void App::build_drive() {
   persistence_ = std::make_unique<persistence::Service>(*od_, preset_.name, MCEMU_VERSION, std::move(factory),
                                                         std::move(on_file), *storage_, std::move(hooks));
   refgo_interpreter_ = std::make_unique<refgo::Interpreter>(*od_, *core_);
-  iofunc_->power_on();
+  iofunc_->power_on(stored_power_on_state());
+}
+
+// What a power on takes from outside the OD (persistence.md §2, §8): the plant position of the last
+// clean shutdown (else the preset's power-on position) and the stored home offset, which the core
+// applies only on absolute-encoder models.
+core::PowerOnState App::stored_power_on_state() const {
+  core::PowerOnState s;
+  s.raw_position_inc = state_dir_->load_plant(preset_.name);
+  if (const auto& file = persistence_->on_file()) s.home_offset_inc = file->home_offset_inc;
+  return s;
+}
+
+// drive-1.plant.json at clean shutdown (persistence.md §8), with the atomic procedure of §10.
+void App::write_plant_state() const {
+  const auto text = persistence::serialize_plant(preset_.name, core_->raw_position_inc());
+  if (auto error = persistence::write_atomically(state_dir_->plant_file(), text)) {
+    spdlog::error("cannot write the plant state: {}", *error);
+  }
+}
+
+// The active IP address: --ip given explicitly > stored 5007h > factory (persistence.md §6).
+void App::apply_explicit_ip() {
+  if (!settings_.ip_explicit) return;
+  const auto octets = parse_ipv4(settings_.ip, "--ip");
+  std::vector<od::StoredValue> ip;
+  for (std::uint8_t s = 1; s <= 4; ++s) ip.push_back({0x5007, s, od::Value{std::int64_t{octets[s - 1]}}});
+  od_->load_values(ip);
 }
 
 std::string App::active_ip() const {
@@ -309,7 +331,8 @@ void App::parse_canopen_config() {
 void App::build_canopen() {
   canopen::Node::Hooks hooks;
   hooks.reset_node = [this] {  // the drive part of a power cycle (persistence.md §7)
-    const core::PowerOnState keep{core_->raw_position_inc(), core_->home_offset_inc()};
+    core::PowerOnState keep{core_->raw_position_inc(), core_->home_offset_inc()};
+    if (const auto& file = persistence_->on_file()) keep.home_offset_inc = file->home_offset_inc;
     rebuild_ram_image();
     iofunc_->power_on(keep);  // the core's power_on() and iofunc's volatile state
     on_core_events();
@@ -338,12 +361,7 @@ void App::rebuild_ram_image() {
   od_->load_values(image);
   apply_config_objects(*od_, settings_.config);
   if (const auto& file = persistence_->on_file()) od_->load_values(file->objects);
-  if (settings_.ip_explicit) {
-    const auto octets = parse_ipv4(settings_.ip, "--ip");
-    std::vector<od::StoredValue> ip;
-    for (std::uint8_t s = 1; s <= 4; ++s) ip.push_back({0x5007, s, od::Value{std::int64_t{octets[s - 1]}}});
-    od_->load_values(ip);
-  }
+  apply_explicit_ip();
   spdlog::info("canopen: NMT reset node: drive image rebuilt from the factory image and the state file");
 }
 
@@ -405,6 +423,7 @@ void App::shutdown() {
     udp_->close(ec);
   }
   if (storage_) storage_->drain();
+  if (core_) write_plant_state();
 }
 
 }  // namespace mcemu::server

@@ -77,6 +77,9 @@ class App {
   void step();
   void on_core_events();
   std::string active_ip() const;
+  void apply_explicit_ip();
+  core::PowerOnState stored_power_on_state() const;
+  void write_plant_state() const;
   std::string active_mask() const;
   std::string script_id() const;
   // CANopen node on the SLCAN port (slcan-canopen.md): bus, and the NMT resets it asks for.

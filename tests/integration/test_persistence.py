@@ -155,6 +155,94 @@ class RoundTrip(StateDirTest):
         self.assertEqual(doc["payload"]["objects"]["5006.05"], 20)
 
 
+class ProtocolEntryPoints(StateDirTest):
+    """persistence.md §14 test 10 over the real protocols, and test 11 (plant state)."""
+
+    def test_20_stores_over_sdo_and_refgo_answer_in_order_and_file_is_last_state(self):
+        import struct
+        import threading
+
+        from nc_client import Nc
+        from slcan_client import Client
+
+        with self.start() as m:
+            sdo_results, refgo_replies = [], []
+
+            def over_sdo():
+                c = Client(m.ports["slcan"])
+                try:
+                    for i in range(10):
+                        c.download(0x340D, 1, struct.pack("<H", 100 + i))
+                        c.download(0x1010, 1, struct.pack("<I", SAVE))
+                        sdo_results.append(i)
+                finally:
+                    c.close()
+
+            t = threading.Thread(target=over_sdo)
+            t.start()
+            with Nc(m.ports["refgo"]) as nc:
+                lines = b"".join(b"OW340D,2,%d\rOW1010,1,1702257011\r" % (200 + i) for i in range(10))
+                nc.send(lines)  # pipelined: every line waits for the store before it
+                refgo_replies = nc.replies(20, timeout=30)
+            t.join(timeout=60)
+            self.assertEqual(sdo_results, list(range(10)), "10 SDO store responses, none an abort")
+            stores = [r for r in refgo_replies if r.startswith(b"OW1010")]
+            self.assertEqual(stores, [b"OW1010,1,1702257011\r\nOW1010,1,1702257011,OK\r\n>"] * 10)
+            ram = (m.read_object(0x340D, 1), m.read_object(0x340D, 2))
+            self.assertEqual(ram, (109, 209))
+        with open(self.state_file) as f:
+            doc = json.load(f)
+        self.assertEqual((doc["payload"]["objects"]["340D.01"], doc["payload"]["objects"]["340D.02"]), ram)
+        self.assertEqual(doc["payload"]["objects"]["5006.05"], 20)
+
+    def move_to(self, m, target):
+        from nc_client import Nc
+        with Nc(m.ports["refgo"]) as nc:
+            reply = nc.request(f"G{target}")
+            self.assertTrue(reply.startswith(f"G{target}\r\n".encode()), reply)
+            wait_for(lambda: m.read_object(0x6041, 0) & 0x0400 and abs(m.read_object(0x6064, 0) - target) <= 5,
+                     timeout=20, what="target reached")
+
+    def test_plant_position_survives_a_clean_restart_on_absolute_models(self):
+        with self.start("--model", "MC349_AE") as m:
+            self.move_to(m, 40000)
+            self.assertEqual(m.terminate(), 0)
+        self.assertTrue(os.path.exists(os.path.join(self.dir, "drive-1.plant.json")))
+        with self.start("--model", "MC349_AE") as m:
+            self.assertLessEqual(abs(m.read_object(0x6064, 0) - 40000), 5)
+            self.assertLessEqual(abs(m.read_object(0x6063, 0) - 40000), 5)
+
+    def test_incremental_encoder_starts_at_zero(self):
+        with self.start("--model", "MC349") as m:
+            self.move_to(m, 40000)
+            self.assertEqual(m.terminate(), 0)
+        with self.start("--model", "MC349") as m:
+            self.assertEqual(m.read_object(0x6064, 0), 0)
+            self.assertEqual(m.read_object(0x6063, 0), 0)
+
+    def test_after_sigkill_the_last_clean_position_is_used(self):
+        with self.start("--model", "MC349_AE") as m:
+            self.move_to(m, 20000)
+        with self.start("--model", "MC349_AE") as m:
+            self.move_to(m, 60000)
+            m.kill()
+        with self.start("--model", "MC349_AE") as m:
+            self.assertLessEqual(abs(m.read_object(0x6064, 0) - 20000), 5, "like a machine moved by hand while off")
+
+    def test_home_offset_is_stored_on_absolute_models(self):
+        from nc_client import Nc
+        with self.start("--model", "MC349_AE") as m:
+            self.move_to(m, 30000)
+            with Nc(m.ports["refgo"]) as nc:
+                nc.request("PQ")
+                nc.request("REF35")
+            wait_for(lambda: m.read_object(0x6064, 0) == 0, what="home set here")
+            self.assertEqual(m.store()[0], 200)
+        with self.start("--model", "MC349_AE") as m:
+            # the plant is still at raw 30000 (plant file); without the stored offset 6064h would read 30000
+            self.assertLessEqual(abs(m.read_object(0x6064, 0)), 5, "the stored home offset is applied")
+
+
 class CorruptFiles(StateDirTest):
     def valid_file(self, **objects):
         with self.start() as m:
