@@ -43,7 +43,7 @@ void DriveCore::hook_read(std::uint16_t index, std::uint8_t sub, od::ReadHook ho
   read_hooks_.emplace_back(index, sub);
 }
 
-void DriveCore::update_scaling() {
+FactorGroup DriveCore::stored_factor_group() const {
   const auto& h = ctx_.h;
   FactorGroup fg;
   fg.encoder_inc = static_cast<std::uint64_t>(ctx_.num(h.enc_inc));
@@ -53,6 +53,11 @@ void DriveCore::update_scaling() {
   fg.feed = static_cast<std::uint64_t>(ctx_.num(h.feed));
   fg.feed_shaft = static_cast<std::uint64_t>(ctx_.num(h.feed_shaft));
   fg.polarity = static_cast<std::uint8_t>(ctx_.num(h.polarity));
+  return fg;
+}
+
+void DriveCore::update_scaling() {
+  FactorGroup fg = stored_factor_group();
   // a bulk load may bring an impossible group; keep the identity rather than divide by zero
   if (Scaling::check(fg) != od::AbortCode::none) fg = FactorGroup{};
   ctx_.scaling = Scaling(fg, preset_.kind, AccelUnit{params_.accel_unit_num, params_.accel_unit_den});
@@ -79,15 +84,7 @@ void DriveCore::install_hooks() {
   for (const Sub s : {Sub{0x608F, 1}, Sub{0x608F, 2}, Sub{0x6091, 1}, Sub{0x6091, 2}, Sub{0x6092, 1}, Sub{0x6092, 2},
                       Sub{0x607E, 0}}) {
     hook_write(s.index, s.sub, [this, s](od::WriteRequest& req) {
-      const auto& h = ctx_.h;
-      FactorGroup fg;
-      fg.encoder_inc = static_cast<std::uint64_t>(ctx_.num(h.enc_inc));
-      fg.motor_rev = static_cast<std::uint64_t>(ctx_.num(h.enc_rev));
-      fg.gear_motor = static_cast<std::uint64_t>(ctx_.num(h.gear_motor));
-      fg.gear_shaft = static_cast<std::uint64_t>(ctx_.num(h.gear_shaft));
-      fg.feed = static_cast<std::uint64_t>(ctx_.num(h.feed));
-      fg.feed_shaft = static_cast<std::uint64_t>(ctx_.num(h.feed_shaft));
-      fg.polarity = static_cast<std::uint8_t>(ctx_.num(h.polarity));
+      FactorGroup fg = stored_factor_group();
       const auto v = static_cast<std::uint64_t>(as_int(req.value));
       switch (s.index << 8 | s.sub) {
         case 0x608F01: fg.encoder_inc = v; break;

@@ -104,6 +104,7 @@ class DriveCore {
   void install_hooks();
   void hook_write(std::uint16_t index, std::uint8_t sub, od::WriteHook hook);
   void hook_read(std::uint16_t index, std::uint8_t sub, od::ReadHook hook);
+  FactorGroup stored_factor_group() const;  // 608Fh/6091h/6092h/607Eh as stored
   void update_scaling();
   void update_inertia_ctrl(std::optional<std::int64_t> weight, std::optional<std::int64_t> payload);
   // drive_core_pds.cpp

@@ -3,6 +3,8 @@
 #include <array>
 #include <cstdio>
 
+#include "drive/od/hex.hpp"
+
 namespace mcemu::persistence {
 
 using nlohmann::json;
@@ -33,24 +35,10 @@ std::string object_key(std::uint16_t index, std::uint8_t sub) {
 
 std::optional<std::pair<std::uint16_t, std::uint8_t>> parse_object_key(std::string_view key) {
   if (key.size() != 7 || key[4] != '.') return std::nullopt;
-  unsigned v[2] = {0, 0};
-  const std::string_view parts[2] = {key.substr(0, 4), key.substr(5, 2)};
-  for (int p = 0; p < 2; ++p) {
-    for (char c : parts[p]) {
-      int d;
-      if (c >= '0' && c <= '9') {
-        d = c - '0';
-      } else if (c >= 'A' && c <= 'F') {
-        d = c - 'A' + 10;
-      } else if (c >= 'a' && c <= 'f') {
-        d = c - 'a' + 10;
-      } else {
-        return std::nullopt;
-      }
-      v[p] = v[p] * 16 + static_cast<unsigned>(d);
-    }
-  }
-  return std::pair{static_cast<std::uint16_t>(v[0]), static_cast<std::uint8_t>(v[1])};
+  const auto index = od::parse_hex(key.substr(0, 4), 0xFFFF);
+  const auto sub = od::parse_hex(key.substr(5, 2), 0xFF);
+  if (!index || !sub) return std::nullopt;
+  return std::pair{static_cast<std::uint16_t>(*index), static_cast<std::uint8_t>(*sub)};
 }
 
 std::uint32_t crc32(std::string_view bytes) {

@@ -10,12 +10,6 @@ namespace {
 
 std::string hex_key(std::uint16_t i, std::uint8_t s) { return persistence::object_key(i, s); }
 
-template <typename T>
-T number_of(const json& v, const std::string& what) {
-  if (!v.is_number()) throw UsageError("invalid value " + v.dump() + " for " + what + " (expected a number)");
-  return v.get<T>();
-}
-
 std::uint32_t u32_of(const json& v, const std::string& what) {
   if (!v.is_number_integer() || v.get<std::int64_t>() < 0 || v.get<std::int64_t>() > 0xFFFFFFFFLL) {
     throw UsageError("invalid value " + v.dump() + " for " + what + " (expected 0…4294967295)");
@@ -58,89 +52,12 @@ void apply_overrides(model::ModelPreset& p, const json& o) {
   }
 }
 
-std::pair<std::int64_t, std::int64_t> pair_of(const json& v, const std::string& what) {
-  if (!v.is_array() || v.size() != 2 || !v[0].is_number_integer() || !v[1].is_number_integer() ||
-      v[0].get<std::int64_t>() >= v[1].get<std::int64_t>()) {
-    throw UsageError("invalid value " + v.dump() + " for " + what + " (expected [min, max] in increments)");
-  }
-  return {v[0].get<std::int64_t>(), v[1].get<std::int64_t>()};
-}
-
-void apply_plant(model::ModelPreset& p, const json& o) {
-  auto& pl = p.plant;
-  std::optional<double> stroke_mm;
-  bool stops_given = false;
-  bool power_on_given = false;
-  for (const auto& [key, v] : o.items()) {
-    const std::string what = "config key \"plant." + key + "\"";
-    const std::map<std::string, double*> doubles = {{"torque_peak", &pl.torque_peak},
-                                                    {"torque_cont", &pl.torque_cont},
-                                                    {"inertia_motor", &pl.inertia_motor},
-                                                    {"inertia_load", &pl.inertia_load},
-                                                    {"viscous", &pl.viscous},
-                                                    {"coulomb", &pl.coulomb},
-                                                    {"no_load_speed", &pl.no_load_speed},
-                                                    {"velocity_bandwidth_hz", &pl.velocity_bandwidth_hz},
-                                                    {"accel_feedforward", &pl.accel_feedforward},
-                                                    {"moving_threshold", &pl.moving_threshold},
-                                                    {"p_idle", &pl.p_idle_w},
-                                                    {"p_cu", &pl.p_cu_w},
-                                                    {"r_th", &pl.r_th_k_per_w},
-                                                    {"tau_th", &pl.tau_th_s},
-                                                    {"supply_nominal_v", &pl.supply_nominal_v},
-                                                    {"uv_v", &pl.supply_uv_v},
-                                                    {"ov_v", &pl.supply_ov_v}};
-    if (auto it = doubles.find(key); it != doubles.end()) {
-      *it->second = number_of<double>(v, what);
-    } else if (key == "following_error_limit") {
-      pl.following_error_limit_inc = number_of<std::int64_t>(v, what);
-    } else if (key == "stops") {
-      stops_given = true;
-      if (v.is_null()) {
-        pl.stops_inc.reset();
-      } else {
-        pl.stops_inc = pair_of(v, what);
-      }
-    } else if (key == "power_on_position") {
-      power_on_given = true;
-      pl.power_on_position_inc = number_of<std::int64_t>(v, what);
-    } else if (key == "temperature_available" || key == "hw_enable_fitted" || key == "absolute_encoder") {
-      if (!v.is_boolean()) throw UsageError("invalid value " + v.dump() + " for " + what + " (expected true/false)");
-      (key == "temperature_available" ? pl.temperature_available
-       : key == "hw_enable_fitted"    ? pl.hw_enable_fitted
-                                      : pl.absolute_encoder) = v.get<bool>();
-    } else if (key == "stroke_mm") {
-      stroke_mm = number_of<double>(v, what);
-    } else {
-      // Further plant keys (e.g. position_switches, external_load) belong to the drive core's own
-      // configuration and are validated there.
-      continue;
-    }
-  }
-  if (stroke_mm) {
-    if (p.kind != model::Kind::linear || *stroke_mm < 1 || *stroke_mm > 650) {
-      throw UsageError("invalid value for config key \"plant.stroke_mm\" (linear models only, 1…650)");
-    }
-    const auto len = static_cast<std::int64_t>(*stroke_mm * 1000.0);
-    if (!stops_given) pl.stops_inc = std::pair<std::int64_t, std::int64_t>{0, len};
-    if (!power_on_given) pl.power_on_position_inc = len / 2;
-  }
-  if (pl.hw_enable_fitted && pl.hw_enable_input == 0) {
-    throw UsageError("config key \"plant.hw_enable_fitted\": on " + p.name +
-                     " the HW enable option is a power pin, not an input (models.md §5)");
-  }
-  if (pl.torque_peak <= 0 || pl.inertia_motor + pl.inertia_load <= 0) {
-    throw UsageError("config section \"plant\": torque_peak and the inertia must be positive");
-  }
-}
-
 }  // namespace
 
 model::ModelPreset make_preset(const Settings& settings) {
   auto p = model::find_preset(settings.model);
   if (!p) throw UsageError("unknown model '" + settings.model + "'");
   if (settings.config.contains("model_overrides")) apply_overrides(*p, settings.config["model_overrides"]);
-  if (settings.config.contains("plant")) apply_plant(*p, settings.config["plant"]);
   return *p;
 }
 

@@ -1,5 +1,5 @@
 // The factory image of the emulated drive (persistence.md §5): XDD → model preset →
-// "model_overrides"/"plant"/"objects" of --config; and the --dump-od document. Throws UsageError
+// "model_overrides"/"objects" of --config; and the --dump-od document. Throws UsageError
 // with a one-line message for any invalid config value.
 #pragma once
 
@@ -11,7 +11,8 @@
 
 namespace mcemu::server {
 
-// The preset named by --model with "model_overrides" and "plant" of the config applied.
+// The preset named by --model with "model_overrides" of the config applied ("plant" and "homing"
+// are the drive core's: server/plant_settings.hpp).
 model::ModelPreset make_preset(const Settings& settings);
 // Installs the "objects" section ({"IIII.SS": value}) as part of the factory image (bulk load).
 void apply_config_objects(od::ObjectDictionary& od, const nlohmann::json& config);

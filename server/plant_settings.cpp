@@ -31,6 +31,29 @@ bool boolean(const json& v, const std::string& key) {
   return v.get<bool>();
 }
 
+// plant.noise {"enabled", "inc", "seed"} (drive-core.md §10.8) and plant.regen {"enabled",
+// "capacitance_F"} (§10.11).
+void optional_features(core::PlantConfig& c, const std::string& section, const json& v) {
+  if (!v.is_object()) bad("plant." + section, "an object");
+  for (const auto& [key, value] : v.items()) {
+    const std::string k = "plant." + section + "." + key;
+    if (section == "noise" && key == "enabled") {
+      c.noise.enabled = boolean(value, k);
+    } else if (section == "noise" && key == "inc") {
+      c.noise.inc = integer(value, k);
+    } else if (section == "noise" && key == "seed") {
+      if (integer(value, k) < 0) bad(k, "a non-negative integer");
+      c.noise.seed = static_cast<std::uint64_t>(value.get<std::int64_t>());
+    } else if (section == "regen" && key == "enabled") {
+      c.regen.enabled = boolean(value, k);
+    } else if (section == "regen" && key == "capacitance_F") {
+      c.regen.capacitance_f = number(value, k);
+    } else {
+      throw UsageError("unknown key " + k + " in --config");
+    }
+  }
+}
+
 void plant_keys(core::PlantConfig& c, const json& plant) {
   using Setter = std::function<void(const json&, const std::string&)>;
   const auto real = [](std::optional<double>& field) -> Setter {
@@ -89,6 +112,10 @@ void plant_keys(core::PlantConfig& c, const json& plant) {
        }},
   };
   for (const auto& [key, value] : plant.items()) {
+    if (key == "noise" || key == "regen") {
+      optional_features(c, key, value);
+      continue;
+    }
     const auto it = keys.find(key);
     if (it == keys.end()) throw UsageError("unknown key plant." + key + " in --config");
     it->second(value, "plant." + key);

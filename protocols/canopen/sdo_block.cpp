@@ -2,23 +2,14 @@
 #include <algorithm>
 
 #include "protocols/canopen/crc16.hpp"
+#include "protocols/canopen/sdo_frames.hpp"
 #include "protocols/canopen/sdo_server.hpp"
 
 namespace mcemu::canopen {
 namespace {
 
-Payload header(std::uint8_t b0, std::uint16_t index, std::uint8_t sub) {
-  Payload p{};
-  p[0] = b0;
-  p[1] = static_cast<std::uint8_t>(index & 0xFF);
-  p[2] = static_cast<std::uint8_t>(index >> 8);
-  p[3] = sub;
-  return p;
-}
-
-void put_u32(Payload& p, std::size_t at, std::uint32_t v) {
-  for (std::size_t i = 0; i < 4; ++i) p[at + i] = static_cast<std::uint8_t>(v >> (8 * i));
-}
+using sdo_frames::header;
+using sdo_frames::put_u32;
 
 }  // namespace
 

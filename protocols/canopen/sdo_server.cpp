@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "protocols/canopen/sdo_frames.hpp"
+
 namespace mcemu::canopen {
 
 struct SdoServer::Shared {
@@ -18,24 +20,9 @@ struct SdoServer::Shared {
 
 namespace {
 
-Payload header(std::uint8_t b0, std::uint16_t index, std::uint8_t sub) {
-  Payload p{};
-  p[0] = b0;
-  p[1] = static_cast<std::uint8_t>(index & 0xFF);
-  p[2] = static_cast<std::uint8_t>(index >> 8);
-  p[3] = sub;
-  return p;
-}
-
-void put_u32(Payload& p, std::size_t at, std::uint32_t v) {
-  for (std::size_t i = 0; i < 4; ++i) p[at + i] = static_cast<std::uint8_t>(v >> (8 * i));
-}
-
-std::uint32_t get_u32(const Payload& p, std::size_t at) {
-  std::uint32_t v = 0;
-  for (std::size_t i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(p[at + i]) << (8 * i);
-  return v;
-}
+using sdo_frames::get_u32;
+using sdo_frames::header;
+using sdo_frames::put_u32;
 
 std::span<const std::byte> as_bytes(std::span<const std::uint8_t> d) {
   return {reinterpret_cast<const std::byte*>(d.data()), d.size()};

@@ -3,18 +3,14 @@
 #include <limits>
 #include <vector>
 
+#include "drive/od/hex.hpp"
+
 namespace mcemu::refgo {
 
 namespace {
 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 bool is_upper(char c) { return c >= 'A' && c <= 'Z'; }
-
-int hex_digit(char c) {
-  if (is_digit(c)) return c - '0';
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  return -1;
-}
 
 // A comma-separated field of the OR/OW arguments, without its surrounding spaces.
 struct Field {
@@ -42,27 +38,16 @@ std::vector<Field> split_fields(std::string_view args) {
 // 1–8 hex digits, optionally followed by H (refgo.md §9.1).
 std::optional<std::uint32_t> parse_hex_token(std::string_view t) {
   if (!t.empty() && t.back() == 'H') t.remove_suffix(1);
-  if (t.empty() || t.size() > 8) return std::nullopt;
-  std::uint32_t v = 0;
-  for (char c : t) {
-    const int d = hex_digit(c);
-    if (d < 0) return std::nullopt;
-    v = v * 16 + static_cast<std::uint32_t>(d);
-  }
-  return v;
+  if (t.size() > 8) return std::nullopt;
+  const auto v = od::parse_hex(t, 0xFFFFFFFF);
+  if (!v) return std::nullopt;
+  return static_cast<std::uint32_t>(*v);
 }
 
 std::optional<std::int64_t> parse_hex_digits(std::string_view t) {
-  if (t.empty()) return std::nullopt;
-  std::uint64_t v = 0;
-  for (char c : t) {
-    const int d = hex_digit(c);
-    if (d < 0) return std::nullopt;
-    if (v > (static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) >> 4)) return std::nullopt;
-    v = v * 16 + static_cast<std::uint64_t>(d);
-  }
-  if (v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) return std::nullopt;
-  return static_cast<std::int64_t>(v);
+  const auto v = od::parse_hex(t, static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()));
+  if (!v) return std::nullopt;
+  return static_cast<std::int64_t>(*v);
 }
 
 std::optional<std::int64_t> parse_decimal(std::string_view t) {

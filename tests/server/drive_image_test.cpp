@@ -15,30 +15,21 @@ Settings with_config(const std::string& model, json config) {
   return s;
 }
 
-TEST(Preset, ModelOverridesAndPlant) {
+TEST(Preset, ModelOverrides) {
   const auto p = make_preset(
-      with_config("MCFLAT", json{{"model_overrides", {{"serial", 7}, {"software_version", "v53.02.10.09_RABBIT"}}},
-                                 {"plant", {{"stroke_mm", 400}, {"coulomb", 3.5}}}}));
+      with_config("MCFLAT", json{{"model_overrides", {{"serial", 7}, {"software_version", "v53.02.10.09_RABBIT"}}}}));
   EXPECT_EQ(p.identity.serial, 7u);
   EXPECT_EQ(p.identity.software_version, "v53.02.10.09_RABBIT");
-  ASSERT_TRUE(p.plant.stops_inc);
-  EXPECT_EQ(p.plant.stops_inc->second, 400000);
-  EXPECT_EQ(p.plant.power_on_position_inc, 200000);
-  EXPECT_DOUBLE_EQ(p.plant.coulomb, 3.5);
   od::ObjectDictionary od(p);
   EXPECT_EQ(*od.read_number(0x3404, 4), 7);
   EXPECT_EQ(*od.read_number(0x1018, 4), 7);
+  EXPECT_EQ(std::get<std::string>(*od.read(0x100A, 0)), "v53.02.10.09_RABBIT");
 }
 
-TEST(Preset, InvalidConfigIsAUsageError) {
+TEST(Preset, InvalidOverridesAreUsageErrors) {
   EXPECT_THROW(make_preset(with_config("MC349", json{{"model_overrides", {{"colour", "red"}}}})), UsageError);
   EXPECT_THROW(make_preset(with_config("MC349", json{{"model_overrides", {{"serial", -1}}}})), UsageError);
-  EXPECT_THROW(make_preset(with_config("MC349", json{{"plant", {{"stroke_mm", 100}}}})), UsageError)
-      << "stroke only on linear models";
-  EXPECT_THROW(make_preset(with_config("MC349", json{{"plant", {{"hw_enable_fitted", true}}}})), UsageError)
-      << "HW enable is a power pin on MC349 (models.md §5)";
-  EXPECT_NO_THROW(make_preset(with_config("MCFLAT", json{{"plant", {{"hw_enable_fitted", true}}}})));
-  EXPECT_THROW(make_preset(with_config("MC349", json{{"plant", {{"stops", {5, 1}}}}})), UsageError);
+  EXPECT_THROW(make_preset(with_config("MC349", json{{"model_overrides", {{"device_name", 5}}}})), UsageError);
 }
 
 TEST(ConfigObjects, BecomePartOfTheFactoryImage) {

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "drive/od/hex.hpp"
+
 namespace mcemu::web::api {
 
 using nlohmann::json;
@@ -112,23 +114,10 @@ std::optional<std::uint32_t> parse_hex_token(std::string_view t, std::uint32_t m
   } else if (!t.empty() && (t.back() == 'h' || t.back() == 'H')) {
     t.remove_suffix(1);
   }
-  if (t.empty() || t.size() > 8) return std::nullopt;
-  std::uint32_t v = 0;
-  for (char c : t) {
-    int d;
-    if (c >= '0' && c <= '9') {
-      d = c - '0';
-    } else if (c >= 'a' && c <= 'f') {
-      d = c - 'a' + 10;
-    } else if (c >= 'A' && c <= 'F') {
-      d = c - 'A' + 10;
-    } else {
-      return std::nullopt;
-    }
-    v = v * 16 + static_cast<std::uint32_t>(d);
-  }
-  if (v > max) return std::nullopt;
-  return v;
+  if (t.size() > 8) return std::nullopt;
+  const auto v = od::parse_hex(t, max);
+  if (!v) return std::nullopt;
+  return static_cast<std::uint32_t>(*v);
 }
 
 Router::Router(od::ObjectDictionary& od, std::function<Info()> info,
