@@ -23,6 +23,7 @@
 #include "server/clock_driver.hpp"
 #include "server/drive_image.hpp"
 #include "server/plant_settings.hpp"
+#include "web/api/faults.hpp"
 #include "web/api/router.hpp"
 #include "web/net/http_server.hpp"
 
@@ -228,6 +229,7 @@ void App::bind_listeners() {
   slcan_ = make_line("slcan", "SLCAN", settings_.slcan_port, "--slcan-port", settings_.slcan_max_clients, true,
                      [this](const line::net::PeerInfo& p) { return make_slcan_session(p); });
 
+  faults_ = std::make_unique<web::api::FaultInjections>(*core_);
   web::net::HttpOptions http_options;
   http_options.max_clients = settings_.http_max_clients;
   auto router = std::make_shared<web::api::Router>(
@@ -255,7 +257,8 @@ void App::bind_listeners() {
           if (sv.index == index && sv.sub == sub) return sv.value;
         }
         return std::nullopt;
-      });
+      },
+      faults_.get());
   try {
     http_ = std::make_unique<web::net::HttpServer>(
         io_, tcp::endpoint(address, settings_.http_port), http_options,
@@ -293,6 +296,7 @@ std::unique_ptr<line::StreamSession> App::make_slcan_session(const line::net::Pe
 // this step's values, its EMCYs come from this step's events).
 void App::step() {
   iofunc_->step();
+  faults_->on_step();
   refgo_interpreter_->on_step();
   on_core_events();
   canopen_->step();

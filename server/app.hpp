@@ -32,6 +32,9 @@ struct PeerInfo;
 namespace mcemu::web::net {
 class HttpServer;
 }
+namespace mcemu::web::api {
+class FaultInjections;
+}
 namespace mcemu::persistence {
 class Service;
 class StateDir;
@@ -100,6 +103,7 @@ class App {
   std::unique_ptr<refgo::Interpreter> refgo_interpreter_;
   std::unique_ptr<line::net::LineServer> refgo_;
   std::unique_ptr<line::net::LineServer> slcan_;
+  std::unique_ptr<web::api::FaultInjections> faults_;
   std::unique_ptr<web::net::HttpServer> http_;
   std::unique_ptr<boost::asio::ip::udp::socket> udp_;
   // shared: RefGo sessions that outlive the App (in the io_context's handlers) hold weak references

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "drive/od/hex.hpp"
+#include "web/api/faults.hpp"
 
 namespace mcemu::web::api {
 
@@ -121,8 +122,8 @@ std::optional<std::uint32_t> parse_hex_token(std::string_view t, std::uint32_t m
 }
 
 Router::Router(od::ObjectDictionary& od, std::function<Info()> info,
-               std::function<std::optional<od::Value>(std::uint16_t, std::uint8_t)> factory)
-    : od_(od), info_(std::move(info)), factory_(std::move(factory)) {}
+               std::function<std::optional<od::Value>(std::uint16_t, std::uint8_t)> factory, FaultInjections* faults)
+    : od_(od), info_(std::move(info)), factory_(std::move(factory)), faults_(faults) {}
 
 void Router::handle(const Request& request, Respond respond) {
   const std::string path = path_of(request.target);
@@ -208,6 +209,16 @@ void Router::handle(const Request& request, Respond respond) {
     const auto c = od_.write(i, s, value, od::Origin::web, finish);
     if (c != od::AbortCode::pending) finish(c);
     return;
+  }
+  if (faults_ && path == "/api/v1/faults") {
+    if (m == "GET" || m == "HEAD") return respond(faults_->list());
+    if (m == "POST") return respond(faults_->create(request.body));
+    if (m == "DELETE") return respond(faults_->remove_all());
+    return respond(method_not_allowed("GET, HEAD, POST, DELETE"));
+  }
+  if (faults_ && parts.size() == 4 && parts[0] == "api" && parts[1] == "v1" && parts[2] == "faults") {
+    if (m != "DELETE") return respond(method_not_allowed("DELETE"));
+    return respond(faults_->remove(parts[3]));
   }
   if (path == "/api/v1/store" || path == "/api/v1/factory-reset") {
     if (m != "POST") return respond(method_not_allowed("POST"));

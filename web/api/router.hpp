@@ -3,8 +3,8 @@
 //
 // Served today: GET/HEAD /api/v1/info (§8.1); the object API of §8.3 (GET /api/v1/objects,
 // GET/PUT /api/v1/objects/{index}/{sub}, POST /api/v1/objects/read); POST /api/v1/store and
-// /api/v1/factory-reset (§7). The pages of the web UI, the rest of the JSON API and the WebSocket
-// belong to the web milestone; their paths answer 404 until then.
+// /api/v1/factory-reset (§7); the drive kinds of the fault-injection API (§9, web/api/faults.hpp). The pages of the web
+// UI, the rest of the JSON API and the WebSocket belong to the web milestone; their paths answer 404 until then.
 // Responses may complete later (a Store answers when the file is durable): handle() calls
 // `respond` exactly once, possibly after it has returned, always on the event-loop thread.
 #pragma once
@@ -53,17 +53,22 @@ struct Info {
   std::string state_dir;
 };
 
+class FaultInjections;
+
 class Router {
  public:
-  // `factory` reads the factory value of an entry (the persistence factory image).
+  // `factory` reads the factory value of an entry (the persistence factory image); `faults` serves
+  // /api/v1/faults (web.md §9) when given.
   Router(od::ObjectDictionary& od, std::function<Info()> info,
-         std::function<std::optional<od::Value>(std::uint16_t, std::uint8_t)> factory);
+         std::function<std::optional<od::Value>(std::uint16_t, std::uint8_t)> factory,
+         FaultInjections* faults = nullptr);
   void handle(const Request& request, Respond respond);
 
  private:
   od::ObjectDictionary& od_;
   std::function<Info()> info_;
   std::function<std::optional<od::Value>(std::uint16_t, std::uint8_t)> factory_;
+  FaultInjections* faults_;
 };
 
 // The bodies of the error responses the adapter produces itself (431, 413, 400).
