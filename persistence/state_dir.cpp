@@ -67,7 +67,10 @@ std::optional<ParsedFile> StateDir::load(std::string_view model, const od::Objec
 void StateDir::warn_ignored(const std::vector<std::string>& keys) const {
   if (keys.empty()) return;
   std::string first;
-  for (std::size_t i = 0; i < keys.size() && i < 3; ++i) first += (i ? ", " : "") + keys[i];
+  for (std::size_t i = 0; i < keys.size() && i < 3; ++i) {
+    if (i > 0) first += ", ";
+    first += keys[i];
+  }
   spdlog::warn("state file {}: {} stored values ignored (unknown object or invalid value), first: {}",
                state_file().string(), keys.size(), first);
 }

@@ -192,17 +192,18 @@ void App::apply_explicit_ip() {
   od_->load_values(ip);
 }
 
-std::string App::active_ip() const {
+// The four octets of 5007h (IP address) or 5008h (mask) as "A.B.C.D".
+std::string App::dotted_quad(std::uint16_t index) const {
   std::string out;
-  for (std::uint8_t s = 1; s <= 4; ++s) out += (s > 1 ? "." : "") + std::to_string(od_->number(0x5007, s));
+  for (std::uint8_t s = 1; s <= 4; ++s) {
+    if (s > 1) out += '.';
+    out += std::to_string(od_->number(index, s));
+  }
   return out;
 }
 
-std::string App::active_mask() const {
-  std::string out;
-  for (std::uint8_t s = 1; s <= 4; ++s) out += (s > 1 ? "." : "") + std::to_string(od_->number(0x5008, s));
-  return out;
-}
+std::string App::active_ip() const { return dotted_quad(0x5007); }
+std::string App::active_mask() const { return dotted_quad(0x5008); }
 
 void App::bind_listeners() {
   boost::system::error_code ec;

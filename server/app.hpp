@@ -79,6 +79,7 @@ class App {
   std::unique_ptr<line::StreamSession> make_slcan_session(const line::net::PeerInfo& peer);
   void step();
   void on_core_events();
+  std::string dotted_quad(std::uint16_t index) const;
   std::string active_ip() const;
   void apply_explicit_ip();
   core::PowerOnState stored_power_on_state() const;

@@ -23,7 +23,10 @@ const std::set<std::string> k_sections = {"objects", "model_overrides", "plant",
 
 std::string names_of_presets() {
   std::string out;
-  for (auto n : model::preset_names()) out += (out.empty() ? "" : ", ") + std::string(n);
+  for (auto n : model::preset_names()) {
+    if (!out.empty()) out += ", ";
+    out += n;
+  }
   return out;
 }
 

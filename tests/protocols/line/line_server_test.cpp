@@ -114,7 +114,8 @@ TEST(LineServer, PipelinedLinesInOrderSplitAnyhow) {
   auto s = srv.connect();
   std::string expected;
   for (int i = 0; i < 200; ++i) {
-    const std::string line = "L" + std::to_string(i);
+    std::string line = "L";
+    line += std::to_string(i);
     expected += line + "\r\n";
     const std::string wire = line + "\r";
     for (char c : wire) asio::write(s, asio::buffer(&c, 1));
