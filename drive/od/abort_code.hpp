@@ -65,6 +65,7 @@ class Result {
   const T& value() const { return std::get<T>(v_); }
   T& value() { return std::get<T>(v_); }
   const T& operator*() const { return value(); }
+  T& operator*() { return value(); }
   const T* operator->() const { return &value(); }
   [[nodiscard]] AbortCode error() const { return ok() ? AbortCode::none : std::get<AbortCode>(v_); }
 
