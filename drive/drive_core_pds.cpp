@@ -293,7 +293,7 @@ void DriveCore::raise(FaultCause cause) {
   const FaultInfo& info = fault_info(cause);
   if (info.kind == FaultKind::warning) return;
   auto& od = ctx_.od;
-  const auto bit = static_cast<std::int64_t>(1u << info.bit);
+  const std::int64_t bit = std::int64_t{1} << info.bit;
   const std::int64_t mfr = od.number(ctx_.h.mfr_status);
   if (mfr & bit) return;
   const std::int64_t next = mfr | bit;

@@ -40,10 +40,7 @@ int run(const mcemu::server::Settings& settings) {
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  std::signal(SIGPIPE, SIG_IGN);  // a failed write is an ordinary disconnect (design.md)
+int start(int argc, char** argv) {
   mcemu::server::Settings settings;
   try {
     settings = mcemu::server::parse_command_line(std::vector<std::string>(argv + 1, argv + argc));
@@ -79,4 +76,18 @@ int main(int argc, char** argv) {
     spdlog::critical("start-up failed: {}", e.what());
     return 1;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);  // a failed write is an ordinary disconnect (design.md)
+  try {
+    return start(argc, argv);
+  } catch (const std::exception& e) {  // e.g. --dump-od failing to write, or a logger that cannot start
+    std::cerr << "mcemu: " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "mcemu: unexpected failure\n";
+  }
+  return 1;
 }

@@ -36,7 +36,9 @@ bool boolean(const json& v, const std::string& key) {
 void optional_features(core::PlantConfig& c, const std::string& section, const json& v) {
   if (!v.is_object()) bad("plant." + section, "an object");
   for (const auto& [key, value] : v.items()) {
-    const std::string k = "plant." + section + "." + key;
+    std::string k = "plant." + section;
+    k += '.';
+    k += key;
     if (section == "noise" && key == "enabled") {
       c.noise.enabled = boolean(value, k);
     } else if (section == "noise" && key == "inc") {

@@ -112,6 +112,15 @@ std::string scalar_text(const json& v, const std::string& what) {
   throw UsageError("invalid value " + v.dump() + " for " + what);
 }
 
+std::string invalid_ipv4(const std::string& text, const std::string& what) {
+  std::string m = "invalid value '";
+  m += text;
+  m += "' for ";
+  m += what;
+  m += " (expected A.B.C.D)";
+  return m;
+}
+
 }  // namespace
 
 std::array<std::uint8_t, 4> parse_ipv4(const std::string& text, const std::string& what) {
@@ -119,12 +128,12 @@ std::array<std::uint8_t, 4> parse_ipv4(const std::string& text, const std::strin
   std::size_t pos = 0;
   for (int i = 0; i < 4; ++i) {
     const std::size_t dot = i < 3 ? text.find('.', pos) : text.size();
-    if (dot == std::string::npos) throw UsageError("invalid value '" + text + "' for " + what + " (expected A.B.C.D)");
+    if (dot == std::string::npos) throw UsageError(invalid_ipv4(text, what));
     const std::string part = text.substr(pos, dot - pos);
     std::uint64_t v = 0;
     auto [p, ec] = std::from_chars(part.data(), part.data() + part.size(), v);
     if (part.empty() || part.size() > 3 || ec != std::errc{} || p != part.data() + part.size() || v > 255) {
-      throw UsageError("invalid value '" + text + "' for " + what + " (expected A.B.C.D)");
+      throw UsageError(invalid_ipv4(text, what));
     }
     out[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(v);
     pos = dot + 1;

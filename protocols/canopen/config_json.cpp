@@ -31,7 +31,9 @@ CanopenConfig canopen_config_from_json(const nlohmann::json& section) {
     } else if (key == "bootup_delay_ms") {
       if (!v.is_object()) bad(key, "must be an object with reset_node and reset_communication");
       for (const auto& [sub, d] : v.items()) {
-        const std::string k = key + "." + sub;
+        std::string k = key;
+        k += '.';
+        k += sub;
         if (sub == "reset_node") {
           c.bootup_delay_reset_node = std::chrono::milliseconds(integer(d, k, 0, 60000));
         } else if (sub == "reset_communication") {

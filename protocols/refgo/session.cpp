@@ -31,8 +31,8 @@ void Session::run() {
       continue;
     }
     std::weak_ptr<Session*> weak = self_;
-    auto r = interpreter_.execute(l.text, [weak](std::string late) {
-      if (auto alive = weak.lock(); alive && *alive) (*alive)->on_late_reply(std::move(late));
+    auto r = interpreter_.execute(l.text, [weak](const std::string& late) {
+      if (auto alive = weak.lock(); alive && *alive) (*alive)->on_late_reply(late);
     });
     if (r) {
       output_ += *r;
@@ -42,7 +42,7 @@ void Session::run() {
   }
 }
 
-void Session::on_late_reply(std::string reply) {
+void Session::on_late_reply(const std::string& reply) {
   output_ += reply;
   waiting_ = false;
   run();

@@ -36,7 +36,7 @@ class Session final : public line::StreamSession {
 
  private:
   void run();
-  void on_late_reply(std::string reply);
+  void on_late_reply(const std::string& reply);
 
   Interpreter& interpreter_;
   line::LineAssembler assembler_;

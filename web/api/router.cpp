@@ -125,7 +125,7 @@ Router::Router(od::ObjectDictionary& od, std::function<Info()> info,
                std::function<std::optional<od::Value>(std::uint16_t, std::uint8_t)> factory, FaultInjections* faults)
     : od_(od), info_(std::move(info)), factory_(std::move(factory)), faults_(faults) {}
 
-void Router::handle(const Request& request, Respond respond) {
+void Router::handle(const Request& request, const Respond& respond) {
   const std::string path = path_of(request.target);
   const auto parts = split_path(path);
   const std::string& m = request.method;

@@ -62,7 +62,7 @@ class Router {
   Router(od::ObjectDictionary& od, std::function<Info()> info,
          std::function<std::optional<od::Value>(std::uint16_t, std::uint8_t)> factory,
          FaultInjections* faults = nullptr);
-  void handle(const Request& request, Respond respond);
+  void handle(const Request& request, const Respond& respond);
 
  private:
   od::ObjectDictionary& od_;

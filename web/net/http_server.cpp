@@ -92,7 +92,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 };
 
 HttpServer::HttpServer(asio::io_context& io, const tcp::endpoint& endpoint, HttpOptions options, Handler handler)
-    : io_(io), acceptor_(io), options_(options), handler_(std::move(handler)) {
+    : acceptor_(io), options_(options), handler_(std::move(handler)) {
   acceptor_.open(endpoint.protocol());
   acceptor_.set_option(tcp::acceptor::reuse_address(true));
   acceptor_.bind(endpoint);

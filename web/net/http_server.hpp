@@ -48,7 +48,6 @@ class HttpServer {
   void do_accept();
   void forget(const std::shared_ptr<HttpSession>& s) { sessions_.erase(s); }
 
-  boost::asio::io_context& io_;
   boost::asio::ip::tcp::acceptor acceptor_;
   HttpOptions options_;
   Handler handler_;

@@ -158,7 +158,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
 
 LineServer::LineServer(asio::io_context& io, const tcp::endpoint& endpoint, LineServerOptions options,
                        SessionFactory factory)
-    : io_(io), acceptor_(io), options_(std::move(options)), factory_(std::move(factory)) {
+    : acceptor_(io), options_(std::move(options)), factory_(std::move(factory)) {
   acceptor_.open(endpoint.protocol());
   acceptor_.set_option(tcp::acceptor::reuse_address(true));
   acceptor_.bind(endpoint);

@@ -68,7 +68,6 @@ class LineServer {
   void on_accept(const boost::system::error_code& ec, boost::asio::ip::tcp::socket socket);
   void forget(const std::shared_ptr<Connection>& c);
 
-  boost::asio::io_context& io_;
   boost::asio::ip::tcp::acceptor acceptor_;
   LineServerOptions options_;
   SessionFactory factory_;
