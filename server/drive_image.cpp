@@ -98,14 +98,19 @@ json dump_od(const od::ObjectDictionary& od, const std::string& model) {
         value = std::get<std::string>(*r);
       }
     }
-    entries.push_back(json{{"index", e.index},
-                           {"sub", e.sub},
-                           {"name", e.name},
-                           {"type", od::to_string(e.type)},
-                           {"access", od::to_string(e.access)},
-                           {"pdo", od::to_string(e.pdo)},
-                           {"class", od::to_string(e.cls)},
-                           {"value", value}});
+    json entry{{"index", e.index},
+               {"sub", e.sub},
+               {"name", e.name},
+               {"type", od::to_string(e.type)},
+               {"access", od::to_string(e.access)},
+               {"pdo", od::to_string(e.pdo)},
+               {"class", od::to_string(e.cls)},
+               {"value", value}};
+    if (e.limits) {  // object-dictionary.md §5 ranges (sets and structural rules are not listed)
+      entry["min"] = e.limits->min;
+      entry["max"] = e.limits->max;
+    }
+    entries.push_back(std::move(entry));
   });
   return json{{"model", model}, {"entries", entries}};
 }

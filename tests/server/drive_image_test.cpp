@@ -58,14 +58,20 @@ TEST(DumpOd, OneElementPerEntryAscending) {
   EXPECT_EQ(first["pdo"], "no");
   EXPECT_EQ(first["class"], "const");
   EXPECT_EQ(first["value"], 0x20192);
-  bool found = false;
+  EXPECT_FALSE(first.contains("min")) << "no range, no limits";
+  int found = 0;
   for (const auto& e : d["entries"]) {
     if (e["index"] == 0x1008) {
       EXPECT_EQ(e["value"], "MC349_ETH_RE");
-      found = true;
+      ++found;
+    }
+    if (e["index"] == 0x3404 && e["sub"] == 3) {  // node-id 1 … 127 (object-dictionary.md §5)
+      EXPECT_EQ(e["min"], 1);
+      EXPECT_EQ(e["max"], 127);
+      ++found;
     }
   }
-  EXPECT_TRUE(found);
+  EXPECT_EQ(found, 2);
 }
 
 }  // namespace
