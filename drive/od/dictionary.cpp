@@ -1,6 +1,7 @@
 #include "drive/od/dictionary.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 
 namespace mcemu::od {
@@ -20,6 +21,13 @@ std::int64_t decode_le(std::span<const std::byte> data, DataType type) {
     return static_cast<std::int64_t>((raw ^ sign)) - static_cast<std::int64_t>(sign);
   }
   return static_cast<std::int64_t>(raw);
+}
+
+// One owner per entry (architecture.md): a second hook would silently replace the first.
+std::string hook_conflict(const char* kind, std::uint16_t index, std::uint8_t sub) {
+  char where[16];
+  std::snprintf(where, sizeof where, "%04Xh.%02Xh", index, sub);
+  return std::string("a second ") + kind + " hook for " + where;
 }
 
 }  // namespace
@@ -266,11 +274,15 @@ AbortCode ObjectDictionary::write_bytes(std::uint16_t index, std::uint8_t sub, s
 }
 
 void ObjectDictionary::on_write(std::uint16_t index, std::uint8_t sub, WriteHook hook) {
-  entries_[handle(index, sub)].write_hook = std::move(hook);
+  auto& slot = entries_[handle(index, sub)].write_hook;
+  if (slot && hook) throw std::logic_error(hook_conflict("write", index, sub));
+  slot = std::move(hook);
 }
 
 void ObjectDictionary::on_read(std::uint16_t index, std::uint8_t sub, ReadHook hook) {
-  entries_[handle(index, sub)].read_hook = std::move(hook);
+  auto& slot = entries_[handle(index, sub)].read_hook;
+  if (slot && hook) throw std::logic_error(hook_conflict("read", index, sub));
+  slot = std::move(hook);
 }
 
 void ObjectDictionary::on_change(ChangeListener listener) { listeners_.push_back(std::move(listener)); }

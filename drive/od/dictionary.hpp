@@ -111,6 +111,8 @@ class ObjectDictionary {
   // Checks 1–3 of a read alone, for an SDO upload initiate.
   AbortCode check_upload(std::uint16_t index, std::uint8_t sub) const;
 
+  // At most one hook of each kind per entry, registered by its owner: a second registration
+  // throws std::logic_error (an empty hook removes the one there).
   void on_write(std::uint16_t index, std::uint8_t sub, WriteHook hook);
   void on_read(std::uint16_t index, std::uint8_t sub, ReadHook hook);
   void on_change(ChangeListener listener);

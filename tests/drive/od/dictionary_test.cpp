@@ -226,6 +226,19 @@ TEST(Dictionary, ReentrantHookWritesOtherEntries) {
   EXPECT_EQ(*od.read_number(0x2007, 0), 42);
 }
 
+TEST(Dictionary, ASecondHookOnAnEntryIsRefusedNotSwapped) {
+  ObjectDictionary od(test_entries());
+  od.on_write(0x2000, 0, [](WriteRequest&) { return AbortCode::invalid_value; });
+  EXPECT_THROW(od.on_write(0x2000, 0, [](WriteRequest&) { return AbortCode::none; }), std::logic_error);
+  EXPECT_EQ(od.write(0x2000, 0, Value{std::int64_t{1}}, Origin::sdo), AbortCode::invalid_value) << "first hook kept";
+  od.on_write(0x2000, 0, {});  // removed by its owner, then a new one is fine
+  od.on_write(0x2000, 0, [](WriteRequest&) { return AbortCode::none; });
+  EXPECT_EQ(od.write(0x2000, 0, Value{std::int64_t{1}}, Origin::sdo), AbortCode::none);
+  const ReadHook hook = [](const EntryInfo&) -> Result<Value> { return Value{std::int64_t{7}}; };
+  od.on_read(0x2001, 0, hook);
+  EXPECT_THROW(od.on_read(0x2001, 0, hook), std::logic_error);
+}
+
 TEST(Dictionary, ReadHookProducesValue) {
   ObjectDictionary od(test_entries());
   od.on_read(0x2007, 0, [](const EntryInfo&) -> Result<Value> { return Value{std::int64_t{99}}; });
