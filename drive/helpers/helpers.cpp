@@ -111,9 +111,11 @@ namespace {
 
 od::AbortCode go_pos(const DriveRef& d, std::int32_t value, std::uint16_t arm, std::uint16_t fire) {
   if (const auto c = ensure_mode(d, 1); c != od::AbortCode::none) return c;
-  if (!autoenable(d)) return od::AbortCode::device_state;
+  const bool enabled = autoenable(d);
+  // 607Ah is written even when AUTOENABLE failed: the target is kept for a later start (§12,
+  // refgo.md §7.2).
   if (const auto c = put(d, 0x607A, 0, value); c != od::AbortCode::none) return c;
-  if (d.core.state() != PdsState::operation_enabled) return od::AbortCode::device_state;
+  if (!enabled || d.core.state() != PdsState::operation_enabled) return od::AbortCode::device_state;
   write_control(d, arm);
   write_control(d, fire);
   return od::AbortCode::none;

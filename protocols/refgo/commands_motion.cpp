@@ -27,18 +27,12 @@ std::int32_t saturate_i32(std::int64_t v) {
       std::clamp<std::int64_t>(v, std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::max()));
 }
 
-// G / GW: the target argument, or the 607Ah set with PO / WA (§7.2). 607Ah is written first, so
-// the target is kept even when AUTOENABLE fails.
+// G / GW: STOPGEN, then the GoPos… helper with the target argument, or with the 607Ah set by
+// PO / WA (§7.2). The helper writes 607Ah even when AUTOENABLE fails.
 Outcome go(Interpreter& in, const Call& c, bool relative) {
   in.programs().stop_all();
   const auto d = in.drive();
-  std::int32_t target = 0;
-  if (c.arg) {
-    target = static_cast<std::int32_t>(*c.arg);
-    if (const auto code = helpers::set_target_pos(d, target); code != od::AbortCode::none) return Outcome::error(code);
-  } else {
-    target = static_cast<std::int32_t>(read(in, 0x607A));
-  }
+  const auto target = static_cast<std::int32_t>(c.arg ? *c.arg : read(in, 0x607A));
   return motion_result(relative ? helpers::go_pos_rel(d, target) : helpers::go_pos_abs(d, target));
 }
 

@@ -73,6 +73,9 @@ TEST(Helpers, AutoEnableStopsWhenSwitchOnFaults) {
   EXPECT_TRUE(h::chk_error(f.ref));
   EXPECT_TRUE(h::chk_mfr_status(f.ref, 9));
   EXPECT_EQ(h::go_pos_abs(f.ref, 50000), od::AbortCode::device_state) << "no automatic fault reset";
+  EXPECT_EQ(h::go_pos_rel(f.ref, 1234), od::AbortCode::device_state);
+  EXPECT_EQ(f.d.od.number(0x607A, 0), 1234) << "the target is written although no motion starts (§12)";
+  EXPECT_FALSE(h::chk_moving(f.ref));
 }
 
 TEST(Helpers, GoVelClearsHaltAndIsRefusedOnRabbit) {
