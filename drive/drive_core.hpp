@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "drive/core_context.hpp"
@@ -92,7 +93,12 @@ class DriveCore {
 
   // ---- inputs (§10.9)
   void recompute_inputs();
-  void set_inputs_observer(InputsObserver observer) { observer_ = std::move(observer); }
+  // One observer (the I/O functions); others watch 60FDh through the OD change listener. A second
+  // registration throws std::logic_error instead of silently replacing the first.
+  void set_inputs_observer(InputsObserver observer) {
+    if (observer_ && observer) throw std::logic_error("a second inputs observer on the drive core");
+    observer_ = std::move(observer);
+  }
 
   // ---- events (§13)
   std::vector<Event> drain_events();

@@ -154,6 +154,10 @@ TEST(Inputs, ExternalLevelsObserverAndVirtualInputs) {
   EXPECT_EQ(seen.size(), 2u) << "no call without a change";
   d.collect();
   EXPECT_EQ(d.of<InputsChanged>().size(), 2u);
+  EXPECT_THROW(d.core.set_inputs_observer([](std::uint32_t, std::uint32_t) {}), std::logic_error)
+      << "one observer; a second would silently replace the I/O functions";
+  ASSERT_TRUE(d.core.set_external_input_level(1, true));
+  EXPECT_EQ(seen.size(), 3u) << "the first observer still runs";
 }
 
 TEST(Inputs, CombinedPinSeesItsOutput) {
