@@ -4,6 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <random>
+
 #include "drive/model/model_preset.hpp"
 #include "drive/od/model_tables.hpp"
 #include "protocols/canopen/crc16.hpp"
@@ -123,6 +128,83 @@ TEST(CanopenBus, MalformedInputGetsBelAndTheSessionContinues) {
   auto a = r.bus.make_session();
   a->receive("t63G0\rt6328404160\r\x01\rt63284041600000000000\r");
   EXPECT_EQ(a->take_output(), "\a\a\az\rt5B284B41600040000000\r");
+}
+
+// Bad input never breaks anything (README ground rule): 20 000 seeded random lines — SDO requests
+// with random bytes (any command, index, sub, data), NMT and other frames, malformed Lawicel
+// commands and binary noise — with time advancing in between. Every line gets an answer (CR, BEL,
+// z/Z or a reply), and afterwards the node still serves SDO on whatever node-id the random writes
+// left it with.
+TEST(CanopenBus, RandomLinesNeverBreakTheSessionOrTheNode) {
+  Rig r;
+  auto s = r.bus.make_session();
+  std::mt19937 rng(20261123);
+  const auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
+  static constexpr char k_hex[] = "0123456789ABCDEF";
+  const auto hex = [&](int digits) {
+    std::string h;
+    for (int i = 0; i < digits; ++i) h.push_back(k_hex[pick(16)]);
+    return h;
+  };
+  static constexpr std::array<std::uint8_t, 14> k_cs = {0x40, 0x2F, 0x2B, 0x23, 0x22, 0x21, 0x60,
+                                                        0x70, 0x00, 0x10, 0xA4, 0xC6, 0xA1, 0x80};
+  std::vector<std::pair<std::uint16_t, std::uint8_t>> entries;
+  r.od.for_each([&](const od::EntryInfo& e, const od::Value&) { entries.emplace_back(e.index, e.sub); });
+  int sdo_answers = 0;
+  int sdo_aborts = 0;
+  for (int i = 0; i < 20000; ++i) {
+    std::string line;
+    switch (pick(10)) {
+      case 0:
+      case 1:
+      case 2:
+      case 3: {  // an SDO request with a plausible command byte and random rest
+        char cs[3];
+        std::snprintf(cs, sizeof cs, "%02X", k_cs[static_cast<std::size_t>(pick(k_cs.size()))]);
+        if (pick(2) == 0) {  // an entry that exists
+          const auto& [index, sub] = entries[static_cast<std::size_t>(pick(static_cast<int>(entries.size())))];
+          char addr[8];
+          std::snprintf(addr, sizeof addr, "%02X%02X%02X", index & 0xFF, index >> 8, sub);
+          line = std::string("t6328") + cs + addr + hex(8);
+        } else {
+          line = std::string("t6328") + cs + hex(14);
+        }
+        break;
+      }
+      case 4: line = "t632" + std::to_string(pick(9)) + hex(2 * pick(9)); break;  // any DLC
+      case 5: line = "t000" + std::to_string(pick(3)) + hex(4); break;            // NMT, odd DLCs
+      case 6: line = "t" + hex(3) + "8" + hex(16); break;                         // any identifier
+      case 7: line = std::string(1, "tTrRZOCLSsVvNFXxMmWw"[pick(20)]) + hex(pick(12)); break;
+      case 8:
+        for (int k = 1 + pick(20); k > 0; --k) line.push_back(static_cast<char>(rng() & 0xFF));
+        std::replace(line.begin(), line.end(), '\r', 'x');
+        std::replace(line.begin(), line.end(), '\n', 'x');
+        break;
+      default: line = "O"; break;  // reopen if a random C closed the channel
+    }
+    s->receive(line + "\r");
+    const std::string out = s->take_output();
+    EXPECT_FALSE(out.empty()) << "line " << i << " unanswered: " << line;
+    sdo_answers += out.find("t5B28") != std::string::npos ? 1 : 0;
+    sdo_aborts += out.find("t5B2880") != std::string::npos ? 1 : 0;
+    if (pick(4) == 0) r.bus.step();
+    ASSERT_FALSE(s->finished()) << line;
+  }
+  EXPECT_GT(sdo_answers, 2000) << "the random lines reached the SDO server";
+  EXPECT_GT(sdo_aborts, 500);
+  EXPECT_LT(sdo_aborts, sdo_answers) << "and some of them were accepted";
+  // the node is alive: abort whatever transfer is open, start it, and read 1000h
+  const auto id = static_cast<unsigned>(r.bus.node().node_id());
+  char buf[64];
+  s->receive("C\rZ0\rO\r");  // a random Z1 may have switched timestamps on
+  std::snprintf(buf, sizeof buf, "t%03X88000000000000000\rt000201%02X\r", 0x600 + id, id);
+  s->receive(buf);
+  (void)s->take_output();
+  std::snprintf(buf, sizeof buf, "t%03X84000100000000000\r", 0x600 + id);
+  s->receive(buf);
+  std::snprintf(buf, sizeof buf, "t%03X84300100092010200\r", 0x580 + id);
+  const std::string answer = s->take_output();
+  EXPECT_NE(answer.find(buf), std::string::npos) << "node-id " << id << ": " << answer;
 }
 
 // SDO-22 through the whole pure stack (SLCAN text → session → bus → node → OD and back): a 100 kB

@@ -92,6 +92,60 @@ TEST(Router, StoreCompletesWhenTheHookCompletes) {
   EXPECT_EQ(json::parse(out->body)["error"]["abortCode"], "06060000h");
 }
 
+// Bad input never crashes and never corrupts (README ground rule): malformed targets and bodies of
+// the object API get a 4xx with a JSON error, and the entry keeps its value.
+struct BadCall {
+  const char* method;
+  const char* target;
+  const char* body;
+  int status;
+};
+
+class RouterBadInput : public ::testing::TestWithParam<BadCall> {};
+
+TEST_P(RouterBadInput, Is4xxJsonAndChangesNothing) {
+  Fixture f;
+  const auto& c = GetParam();
+  const std::int64_t mode = *f.od.read_number(0x6060, 0);
+  const auto r = f.call(c.method, c.target, c.body, "application/json");
+  EXPECT_EQ(r.status, c.status) << r.body;
+  const auto body = json::parse(r.body, nullptr, false);
+  ASSERT_FALSE(body.is_discarded()) << r.body;
+  EXPECT_TRUE(body.contains("error")) << r.body;
+  EXPECT_EQ(*f.od.read_number(0x6083, 0), 1000);
+  EXPECT_EQ(*f.od.read_number(0x6060, 0), mode);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, RouterBadInput,
+    ::testing::Values(BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": "abc"})", 409},  // 06070010h
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 1.5})", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": null})", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": [1]})", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": {"a": 1}})", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"val": 5})", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"([1500])", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"(1500)", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", "", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", "\xFF\xFE{", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 18446744073709551616})", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 1e300})", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": -2147483649})", 409},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 4294967296})", 409},
+                      BadCall{"PUT", "/api/v1/objects/6060/0", R"({"value": 99})", 409},
+                      BadCall{"PUT", "/api/v1/objects/6083/256", R"({"value": 5})", 400},
+                      BadCall{"PUT", "/api/v1/objects/10000/0", R"({"value": 5})", 400},
+                      BadCall{"PUT", "/api/v1/objects//0", R"({"value": 5})", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/", R"({"value": 5})", 400},
+                      BadCall{"PUT", "/api/v1/objects/-6083/0", R"({"value": 5})", 400},
+                      BadCall{"POST", "/api/v1/objects/read", R"({"objects": "6083"})", 400},
+                      BadCall{"POST", "/api/v1/objects/read", R"({"objects": [[1]]})", 400},
+                      BadCall{"POST", "/api/v1/objects/read", R"({"objects": [["6083"]]})", 400},
+                      BadCall{"POST", "/api/v1/objects/read", R"({"objects": [["6083", "zz"]]})", 400},
+                      BadCall{"POST", "/api/v1/objects/read", R"({"objects": [[null, 0]]})", 400},
+                      BadCall{"POST", "/api/v1/objects/read", R"({})", 400},
+                      BadCall{"POST", "/api/v1/objects/read", "[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[]]]]]", 400}));
+
 TEST(Router, UnknownPathIs404Html) {
   Fixture f;
   auto r = f.call("GET", "/nothing");
