@@ -313,6 +313,8 @@ class StorageFailure(StateDirTest):
             status, body = m.store()
             self.assertEqual(status, 409)
             self.assertEqual(json.loads(body)["error"]["abortCode"], "06060000h")
+            # the log is read by another thread: the line may arrive just after the HTTP answer
+            wait_for(lambda: m.count_lines("[error] store failed") >= 1, what="the store-failed log line")
             self.assertEqual(m.count_lines("[error] store failed"), 1)
             self.assertEqual(m.read_object(0x5006, 1), 0)
             self.assertEqual(m.write_object(0x6083, 0, 1234)[0], 200, "the drive keeps running")

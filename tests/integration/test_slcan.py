@@ -236,7 +236,7 @@ class Nmt(Base):
         boot = c.recv_until(lambda m: m.arbitration_id == 0x732 and m.data[0] == 0x00)
         self.assertIsNotNone(boot)
         self.assertEqual(c.upload(0x6083, 0), struct.pack("<I", 1000))  # image rebuilt
-        self.assertIn("NMT reset node", self.mcemu.log())
+        wait_for(lambda: self.mcemu.has_line("NMT reset node"), what="the reset-node log line")
 
 
 class Pdo(Base):
