@@ -6,9 +6,11 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <csignal>
+#include <ctime>
 #include <iostream>
 
 #include "drive/od/dictionary.hpp"
+#include "protocols/canopen/eds.hpp"
 #include "server/app.hpp"
 #include "server/drive_image.hpp"
 #include "server/settings.hpp"
@@ -21,6 +23,24 @@ void setup_logging(const std::string& level) {
   spdlog::set_default_logger(logger);
   spdlog::set_level(spdlog::level::from_str(level));
   spdlog::flush_on(spdlog::level::trace);
+}
+
+// --dump-eds: the file information of the EDS; the date is today's (CiA 306 formats).
+mcemu::canopen::EdsInfo eds_info(const mcemu::model::ModelPreset& preset) {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  localtime_r(&now, &tm);
+  char date[16];
+  char time[16];
+  std::strftime(date, sizeof date, "%m-%d-%Y", &tm);
+  std::strftime(time, sizeof time, "%I:%M%p", &tm);
+  mcemu::canopen::EdsInfo info;
+  info.file_name = preset.name + ".eds";
+  info.vendor_name = "Fullmo GmbH";
+  info.description = "MovingCap " + preset.name + " (" + preset.identity.device_name + ") emulated by mcemu";
+  info.date = date;
+  info.time = time;
+  return info;
 }
 
 int run(const mcemu::server::Settings& settings) {
@@ -50,6 +70,13 @@ int start(int argc, char** argv) {
     }
     if (settings.version) {
       std::cout << "mcemu " << MCEMU_VERSION << "\n";
+      return 0;
+    }
+    if (settings.dump_eds) {
+      const auto preset = mcemu::server::make_preset(settings);
+      mcemu::od::ObjectDictionary od(preset);
+      mcemu::server::apply_config_objects(od, settings.config);
+      std::cout << mcemu::canopen::make_eds(od, eds_info(preset));
       return 0;
     }
     if (settings.dump_od) {

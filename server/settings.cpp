@@ -181,9 +181,9 @@ Settings parse_command_line(const std::vector<std::string>& args) {
       value = name.substr(eq + 1);
       name = name.substr(0, eq);
     }
-    if (name == "help" || name == "version" || name == "dump-od") {
+    if (name == "help" || name == "version" || name == "dump-od" || name == "dump-eds") {
       if (value) throw UsageError("option --" + name + " takes no value");
-      (name == "help" ? s.help : name == "version" ? s.version : s.dump_od) = true;
+      (name == "help" ? s.help : name == "version" ? s.version : name == "dump-od" ? s.dump_od : s.dump_eds) = true;
       continue;
     }
     if (!k_value_flags.count(name)) throw UsageError("unknown option --" + name + " (see --help)");
@@ -227,6 +227,7 @@ Usage: mcemu [options]
   --log-level L       trace, debug, info, warn, error, critical, off (default info)
   --max-clients N     simultaneous TCP connections per service (default 8 RefGo/SLCAN, 32 HTTP)
   --dump-od           print the object dictionary of the model as JSON and exit
+  --dump-eds          print the model's CANopen EDS (CiA 306) and exit, e.g. for python-canopen
   --version           print the version and exit
   --help              print this text and exit
 )";

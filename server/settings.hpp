@@ -34,6 +34,7 @@ struct Settings {
   std::size_t slcan_max_clients = 8;
   std::size_t http_max_clients = 32;
   bool dump_od = false;
+  bool dump_eds = false;
   bool help = false;
   bool version = false;
   // The config document (sections "objects", "model_overrides", "plant", "homing", "slcan",

@@ -43,6 +43,9 @@ TEST(CommandLine, AllFlagsBothSpellings) {
   EXPECT_EQ(s.slcan_max_clients, 100u);
   EXPECT_EQ(s.http_max_clients, 100u);
   EXPECT_TRUE(s.dump_od);
+  EXPECT_FALSE(s.dump_eds);
+  EXPECT_TRUE(parse_command_line({"--dump-eds"}).dump_eds);
+  EXPECT_THROW(parse_command_line({"--dump-eds=1"}), UsageError);
 }
 
 struct Bad {
