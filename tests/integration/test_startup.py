@@ -18,7 +18,8 @@ class CommandLine(unittest.TestCase):
         r = run("--help")
         self.assertEqual(r.returncode, 0)
         for flag in ("--model", "--bind", "--refgo-port", "--slcan-port", "--http-port", "--udp-port", "--ip",
-                     "--state-dir", "--config", "--log-level", "--max-clients", "--version", "--help"):
+                     "--state-dir", "--config", "--log-level", "--max-clients", "--dump-od", "--dump-eds",
+                     "--version", "--help"):
             self.assertIn(flag, r.stdout)
         r = run("--version")
         self.assertEqual(r.returncode, 0)
