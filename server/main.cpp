@@ -72,18 +72,15 @@ int start(int argc, char** argv) {
       std::cout << "mcemu " << MCEMU_VERSION << "\n";
       return 0;
     }
-    if (settings.dump_eds) {
+    if (settings.dump_od || settings.dump_eds) {  // the preset's dictionary; no state, no ports
       const auto preset = mcemu::server::make_preset(settings);
       mcemu::od::ObjectDictionary od(preset);
       mcemu::server::apply_config_objects(od, settings.config);
-      std::cout << mcemu::canopen::make_eds(od, eds_info(preset));
-      return 0;
-    }
-    if (settings.dump_od) {
-      const auto preset = mcemu::server::make_preset(settings);
-      mcemu::od::ObjectDictionary od(preset);
-      mcemu::server::apply_config_objects(od, settings.config);
-      std::cout << mcemu::server::dump_od(od, preset.name).dump(1) << "\n";
+      if (settings.dump_eds) {
+        std::cout << mcemu::canopen::make_eds(od, eds_info(preset));
+      } else {
+        std::cout << mcemu::server::dump_od(od, preset.name).dump(1) << "\n";
+      }
       return 0;
     }
   } catch (const mcemu::server::UsageError& e) {

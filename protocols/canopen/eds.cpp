@@ -46,21 +46,11 @@ std::string value_text(const od::Value& v) {
   return number(std::get<std::int64_t>(v));
 }
 
-std::string_view access_text(od::Access a) {
-  switch (a) {
-    case od::Access::ro: return "ro";
-    case od::Access::wo: return "wo";
-    case od::Access::rw: return "rw";
-    case od::Access::const_: return "const";
-  }
-  return "ro";
-}
-
 void entry_keys(std::string& out, const od::EntryInfo& e, const od::Value& v) {
   out += "ParameterName=" + name_text(e.name) + "\n";
   out += "ObjectType=0x7\n";
   out += "DataType=" + hex(static_cast<std::uint16_t>(e.type), 4) + "\n";
-  out += "AccessType=" + std::string(access_text(e.access)) + "\n";
+  out += "AccessType=" + std::string(od::to_string(e.access)) + "\n";  // ro, wo, rw, const
   if (e.limits) {
     out += "LowLimit=" + number(e.limits->min) + "\n";
     out += "HighLimit=" + number(e.limits->max) + "\n";
@@ -72,12 +62,11 @@ void entry_keys(std::string& out, const od::EntryInfo& e, const od::Value& v) {
 void object_sections(std::string& out, const Object& o) {
   const od::EntryInfo& first = *o.subs.front().first;
   const std::string name = index_name(o.index);
+  out += "\n[" + name + "]\n";
   if (first.object_code == 7) {
-    out += "\n[" + name + "]\n";
     entry_keys(out, first, o.subs.front().second);
     return;
   }
-  out += "\n[" + name + "]\n";
   out += "ParameterName=" + name_text(first.object_name.empty() ? first.name : first.object_name) + "\n";
   out += "ObjectType=" + hex(first.object_code, 1) + "\n";
   out += "SubNumber=" + std::to_string(o.subs.size()) + "\n";
