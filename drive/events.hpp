@@ -85,4 +85,9 @@ using Event = std::variant<StatuswordChanged, StateChanged, ModeDisplayChanged, 
                            FaultResetRefused, SetpointAccepted, SetpointRejected, TargetReached, HomingFinished,
                            InternalLimit, InputsChanged, PowerStage, Diagnostic>;
 
+// The event as one line of text for the trace (web.md §8.6, channel drive): its name of §13 and
+// its payload, e.g. "StateChanged switched_on -> operation_enabled (transition 4)",
+// "Emcy 3221h reg 05h data 2132050000000000", "FaultRaised under_voltage 3221h".
+std::string event_text(const Event& e);
+
 }  // namespace mcemu::core

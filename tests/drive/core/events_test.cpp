@@ -280,3 +280,33 @@ TEST(PowerOn, ResetsVolatileObjectsAndTime) {
 
 }  // namespace
 }  // namespace mcemu::core
+
+namespace mcemu::core {
+namespace {
+
+// The trace text of every event kind (web.md §8.6, channel drive): name of §13 and payload.
+TEST(EventText, EveryKind) {
+  const std::vector<std::pair<Event, std::string>> rows = {
+      {StatuswordChanged{0x0040, 0x0421}, "StatuswordChanged 0040h -> 0421h"},
+      {StateChanged{PdsState::switched_on, PdsState::operation_enabled, 4},
+       "StateChanged switched_on -> operation_enabled (transition 4)"},
+      {ModeDisplayChanged{-1}, "ModeDisplayChanged -1"},
+      {Emcy{0x3221, 0x05, {1, 2, 3, 4, 5}}, "Emcy 3221h reg 05h data 2132050102030405"},
+      {FaultRaised{FaultCause::under_voltage, 0x3221}, "FaultRaised under_voltage 3221h"},
+      {FaultResetDone{}, "FaultResetDone"},
+      {FaultResetRefused{{FaultCause::stroke, FaultCause::sensor}}, "FaultResetRefused stroke,sensor"},
+      {SetpointAccepted{-163840, true}, "SetpointAccepted -163840 buffered"},
+      {SetpointRejected{SetpointRejectReason::buffer_full}, "SetpointRejected buffer_full"},
+      {TargetReached{1}, "TargetReached mode 1"},
+      {HomingFinished{35, false}, "HomingFinished method 35 failed"},
+      {InternalLimit{true}, "InternalLimit on"},
+      {InputsChanged{0, 0x10000}, "InputsChanged 00000000h -> 00010000h"},
+      {PowerStage{false}, "PowerStage off"},
+      {Diagnostic{DiagnosticLevel::warning, "set-point ignored"}, "Diagnostic warning set-point ignored"},
+  };
+  EXPECT_EQ(rows.size(), std::variant_size_v<Event>) << "one row per kind";
+  for (const auto& [e, text] : rows) EXPECT_EQ(event_text(e), text);
+}
+
+}  // namespace
+}  // namespace mcemu::core

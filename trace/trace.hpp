@@ -1,0 +1,111 @@
+// The trace ring of web.md §8.6: the newest events of every channel (RefGo lines, SLCAN frames, UDP
+// datagrams, HTTP requests, script calls, drive events, API writes), each with a sequence number,
+// drive time and wall time. PURE: the two clocks are injected (the server passes drive time and a
+// UTC formatter; tests pass fakes). Producers hold a Ring& (or a Ring*, null = tracing off) and call
+// record(); readers query by sequence number and channel set.
+//
+// Contract: single-threaded (the event loop). Sequence numbers start at 1 and never repeat;
+// an event that left the ring is counted in Result::dropped of a query that asks for it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace mcemu::trace {
+
+enum class Channel : std::uint8_t { refgo, slcan, udp, http, script, drive, api };
+inline constexpr std::size_t k_channel_count = 7;
+enum class Dir : std::uint8_t { rx, tx, event };
+
+std::string_view to_string(Channel c);
+std::string_view to_string(Dir d);
+std::optional<Channel> channel_from_string(std::string_view name);
+
+// A set of channels as a bit mask (bit = 1 << Channel).
+struct ChannelSet {
+  std::uint32_t bits = (1U << k_channel_count) - 1;  // default: all
+  static ChannelSet none() { return ChannelSet{0}; }
+  bool contains(Channel c) const { return (bits >> static_cast<unsigned>(c)) & 1U; }
+  void add(Channel c) { bits |= 1U << static_cast<unsigned>(c); }
+  bool operator==(const ChannelSet&) const = default;
+};
+// "refgo,udp" → that set; an empty string → all; an unknown name → nullopt.
+std::optional<ChannelSet> parse_channels(std::string_view comma_separated);
+
+// Marks of web.md §8.6 and the topic files (refgo.md §2.4, §5.4; slcan-canopen.md §11.2;
+// udp-debug.md §2.2).
+struct Flags {
+  bool overlong = false;
+  bool to_script = false;
+  bool discarded = false;
+  bool ignored = false;
+};
+
+struct Event {
+  std::uint64_t seq = 0;
+  std::uint64_t time_ms = 0;  // drive time
+  std::string wall;           // "2026-01-15T10:15:02.123Z"
+  Channel channel = Channel::drive;
+  Dir dir = Dir::event;
+  std::uint64_t conn = 0;  // 0 = no connection
+  std::string peer;        // "127.0.0.1:53422", empty without a peer
+  std::string text;        // raw characters; binary payloads as hex; for Dir::event the event name
+  Flags flags;
+};
+
+class Ring {
+ public:
+  static constexpr std::size_t k_default_capacity = 10000;
+
+  struct Clocks {
+    std::function<std::uint64_t()> drive_ms;
+    std::function<std::string()> wall;
+  };
+
+  explicit Ring(Clocks clocks, std::size_t capacity = k_default_capacity);
+
+  // Appends one event (seq, time and wall filled in here) and returns its seq.
+  std::uint64_t record(Channel channel, Dir dir, std::string text, std::uint64_t conn = 0, std::string peer = {},
+                       Flags flags = {});
+
+  struct Query {
+    std::uint64_t since = 0;  // first seq wanted
+    ChannelSet channels;
+    std::size_t limit = 500;
+  };
+  struct Result {
+    std::vector<Event> events;
+    std::uint64_t next_seq = 1;  // the `since` of the next query
+    std::uint64_t dropped = 0;   // events with seq >= since that had already left the ring
+  };
+  Result query(const Query& q) const;
+
+  // Called for every recorded event, after it is in the ring (the WebSocket trace channel).
+  void set_listener(std::function<void(const Event&)> listener) { listener_ = std::move(listener); }
+
+  std::uint64_t next_seq() const { return next_seq_; }
+  std::size_t size() const { return events_.size(); }
+  std::size_t capacity() const { return capacity_; }
+
+ private:
+  Clocks clocks_;
+  std::size_t capacity_;
+  std::deque<Event> events_;
+  std::uint64_t next_seq_ = 1;
+  std::function<void(const Event&)> listener_;
+};
+
+// Hex of a binary payload ("0A1B…", upper case), as web.md §8.6 asks for binary data.
+std::string hex_bytes(std::string_view bytes);
+// True when the payload is text: no control bytes other than CR, LF and TAB (bytes ≥ 0x80 count as
+// text, UTF-8). text_or_hex() gives text as it is and anything else as hex_bytes().
+bool is_text(std::string_view bytes);
+std::string text_or_hex(std::string_view bytes);
+
+}  // namespace mcemu::trace
