@@ -34,7 +34,11 @@ DriveCore::~DriveCore() {
 }
 
 void DriveCore::hook_write(std::uint16_t index, std::uint8_t sub, od::WriteHook hook) {
-  ctx_.od.on_write(index, sub, std::move(hook));
+  // a hook may change state even when the stored value stays the same: the next step runs in full
+  ctx_.od.on_write(index, sub, [this, hook = std::move(hook)](od::WriteRequest& req) {
+    settled_ = false;
+    return hook(req);
+  });
   write_hooks_.emplace_back(index, sub);
 }
 
@@ -141,6 +145,7 @@ void DriveCore::install_hooks() {
 }
 
 void DriveCore::power_on(const PowerOnState& state) {
+  settled_ = false;
   powered_ = false;  // the 6040h reset below must not run the state machine
   ctx_.od.set(ctx_.h.controlword, od::Value{std::int64_t{0}});
   powered_ = true;
@@ -192,6 +197,7 @@ void DriveCore::power_on(const PowerOnState& state) {
 }
 
 void DriveCore::reload_parameters() {
+  settled_ = false;
   update_scaling();
   update_inertia_ctrl(std::nullopt, std::nullopt);
 }
@@ -218,17 +224,20 @@ std::int64_t DriveCore::raw_position_inc() const {
 }
 
 void DriveCore::apply_mode_switch_now() {
+  settled_ = false;
   if (!powered_) return;
   mode_switch();
   update_statusword();
 }
 
 void DriveCore::resume_interrupted_motion() {
+  settled_ = false;
   if (!powered_ || state_ != PdsState::operation_enabled || pending_ != Pending::none) return;
   if (mode_ == 1 && pp_.resume()) update_statusword();
 }
 
 od::AbortCode DriveCore::set_home_here() {
+  settled_ = false;
   if (state_ == PdsState::fault_reaction_active || state_ == PdsState::fault) return od::AbortCode::device_state;
   ctx_.home_offset_inc = ctx_.actual_raw_inc - ctx_.scaling.to_inc(ctx_.num(ctx_.h.home_offset));
   pp_.reset_reference();
@@ -240,6 +249,7 @@ od::AbortCode DriveCore::set_home_here() {
 }
 
 void DriveCore::inject(FaultCause cause) {
+  settled_ = false;
   const std::uint32_t bit = 1u << static_cast<int>(cause);
   const FaultInfo& info = fault_info(cause);
   if (info.kind == FaultKind::event) {
@@ -259,22 +269,39 @@ void DriveCore::inject(FaultCause cause) {
 }
 
 void DriveCore::clear(FaultCause cause) {
+  settled_ = false;
   const std::uint32_t bit = 1u << static_cast<int>(cause);
   injected_ &= ~bit;
   deferred_ &= ~bit;
 }
 
-void DriveCore::set_supply_voltage(double volts) { supply_set_ = volts; }
+void DriveCore::set_supply_voltage(double volts) {
+  settled_ = false;
+  supply_set_ = volts;
+}
 
-void DriveCore::set_ambient_temperature(double deg_c) { ambient_c_ = deg_c; }
+void DriveCore::set_ambient_temperature(double deg_c) {
+  settled_ = false;
+  ambient_c_ = deg_c;
+}
 
-void DriveCore::set_external_load(double nm_or_n) { plant_.set_external_load(nm_or_n); }
+void DriveCore::set_external_load(double nm_or_n) {
+  settled_ = false;
+  plant_.set_external_load(nm_or_n);
+}
 
-ObstacleId DriveCore::add_obstacle(const Obstacle& obstacle) { return plant_.add_obstacle(obstacle); }
+ObstacleId DriveCore::add_obstacle(const Obstacle& obstacle) {
+  settled_ = false;
+  return plant_.add_obstacle(obstacle);
+}
 
-void DriveCore::remove_obstacle(ObstacleId id) { plant_.remove_obstacle(id); }
+void DriveCore::remove_obstacle(ObstacleId id) {
+  settled_ = false;
+  plant_.remove_obstacle(id);
+}
 
 bool DriveCore::set_external_input_level(int input, bool high) {
+  settled_ = false;
   if (std::find(preset_.input_pins.begin(), preset_.input_pins.end(), input) == preset_.input_pins.end()) return false;
   external_level_[static_cast<std::size_t>(input)] = high;
   if (powered_) publish_inputs(true);
@@ -282,6 +309,7 @@ bool DriveCore::set_external_input_level(int input, bool high) {
 }
 
 void DriveCore::connection_lost() {
+  settled_ = false;
   if (!powered_) return;
   switch (ctx_.num(ctx_.h.abort_connection_option)) {
     case 1: inject(FaultCause::abort_connection); break;
@@ -299,6 +327,7 @@ void DriveCore::send_script_emcy(std::uint32_t error_number, std::uint8_t error_
 }
 
 void DriveCore::recompute_inputs() {
+  settled_ = false;
   if (powered_) publish_inputs(true);
 }
 

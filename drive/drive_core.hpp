@@ -52,6 +52,18 @@ class DriveCore {
   void advance(std::chrono::milliseconds dt) { step(static_cast<std::uint64_t>(dt.count())); }
   std::uint64_t time_ms() const { return ctx_.time_ms; }
 
+  // ---- idle: "time is asked, not polled" (design.md; drive_core_quiet.cpp)
+  static constexpr std::uint64_t k_forever = UINT64_MAX;
+  // How many of the next steps would change nothing but what skip() reproduces (drive time, the
+  // supply debounce counters, the thermal model): 0 = the next step must run; k_forever = never
+  // (not powered, or at rest with a constant thermal state). Today only a drive at rest with the
+  // power stage off (SOD, RTSO, SO, Fault) can be quiet; an enabled drive needs every step.
+  // Claims quiet only right after step() or skip(): any write hook, injection or other command
+  // in between makes it 0 until the next step.
+  std::uint64_t quiet_steps() const;
+  // n ≤ quiet_steps() steps at once, leaving exactly the state (and the OD) of n step() calls.
+  void skip(std::uint64_t n);
+
   // ---- queries, no side effects
   PdsState state() const { return state_; }
   bool powered() const { return powered_; }
@@ -71,6 +83,11 @@ class DriveCore {
   const Scaling& scaling() const { return ctx_.scaling; }
   // Software Enable condition of §4.6 on the current 60FDh (true when no input has function 9)
   bool software_enabled() const { return sw_enable_ok(); }
+  // the actual velocity of the last step in inc/s (the footer's motor rpm, web.md §4.2)
+  double actual_velocity_inc_s() const { return ctx_.actual_velocity_inc_s; }
+  // the wire levels of IN1…IN10 as bits 16…25 (60FDh without 3510h.01): simulation-API levels,
+  // position switches and combined-pin feedback (iofunc.md §2.1; web.md §8.5 "physical")
+  std::uint32_t physical_inputs() const;
 
   // ---- commands used by the helpers (§12)
   void apply_mode_switch_now();      // §6.3 at once
@@ -147,6 +164,9 @@ class DriveCore {
   void thermal_step();
   std::int64_t next_noise();
   void finish_write();
+  // drive_core_quiet.cpp
+  bool resting() const;
+  std::uint64_t thermal_quiet_steps() const;
   // drive_core_outputs.cpp
   std::uint32_t compute_inputs() const;
   void publish_inputs(bool report);
@@ -203,6 +223,12 @@ class DriveCore {
   std::uint64_t noise_state_ = 0;
   double dc_link_v_ = 0;
   std::uint64_t fault_reset_prev_ = 0;
+
+  // idle (quiet_steps): set at the end of step()/skip(), cleared by every other mutating call
+  bool settled_ = false;
+  std::uint64_t settled_generation_ = 0;
+  std::uint64_t settle_count_ = 0;  // full steps; a cached prediction belongs to one of them
+  mutable std::optional<std::pair<std::uint64_t, std::uint64_t>> quiet_cache_;  // (settle_count_, quiet until)
 
   InputsObserver observer_;
   std::vector<std::pair<std::uint16_t, std::uint8_t>> write_hooks_;

@@ -17,6 +17,11 @@ void put(od::ObjectDictionary& od, od::Handle h, std::int64_t v) {
 }  // namespace
 
 std::uint32_t DriveCore::compute_inputs() const {
+  const auto virtual_inputs = static_cast<std::uint32_t>(ctx_.num(ctx_.h.virtual_inputs));
+  return (physical_inputs() | virtual_inputs) & k_input_mask;
+}
+
+std::uint32_t DriveCore::physical_inputs() const {
   std::uint32_t physical = 0;
   const std::int64_t raw = raw_position_inc();  // switches see the mechanics, not the encoder noise
   const std::int64_t outputs = ctx_.num(ctx_.h.outputs);
@@ -31,8 +36,7 @@ std::uint32_t DriveCore::compute_inputs() const {
     }
     if (level) physical |= 1u << (15 + n);
   }
-  const auto virtual_inputs = static_cast<std::uint32_t>(ctx_.num(ctx_.h.virtual_inputs));
-  return (physical | virtual_inputs) & k_input_mask;
+  return physical;
 }
 
 void DriveCore::publish_inputs(bool report) {

@@ -28,6 +28,9 @@ void DriveCore::step() {
   write_actuals();
   update_statusword();
   first_step_ = false;
+  settled_ = true;
+  settled_generation_ = ctx_.od.generation();
+  ++settle_count_;
 }
 
 void DriveCore::leave_mode(std::int8_t mode) {

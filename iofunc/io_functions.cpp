@@ -151,6 +151,18 @@ void IoFunctions::step(std::uint64_t n) {
   for (std::uint64_t i = 0; i < n; ++i) step();
 }
 
+std::uint64_t IoFunctions::quiet_steps() const {
+  if (!queue_.empty()) return 0;
+  if (jog_owner_ && num(h_.mode_display) != 3) return 0;  // released in the next step
+  std::uint64_t q = core_.quiet_steps();
+  // a timer fires in the step that starts at its deadline (fire_timers before the core's step)
+  const std::uint64_t now = core_.time_ms();
+  for (const auto& t : timers_) {
+    if (t) q = std::min(q, t->deadline > now ? t->deadline - now : 0);
+  }
+  return q;
+}
+
 // Losing Software Enable in SO, OE or QSA clears timers and jog ownership (§4.11), in the tick in
 // which the core acts on it.
 void IoFunctions::check_enable_loss() {

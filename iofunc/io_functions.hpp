@@ -48,6 +48,11 @@ class IoFunctions {
   void after_bulk_load();                               // core.reload_parameters(), timers/jog/candidates cleared
   void step();                                          // one 1 ms tick, iofunc.md §3
   void step(std::uint64_t n);
+  // Idle (drive-core.md §2): how many of the next step() calls would change nothing but what
+  // skip() reproduces — the core's quiet steps, cut at the first armed input timer; 0 while edges
+  // or 3510h.02 commands are queued. skip(n) with n ≤ quiet_steps() = n quiet steps at once.
+  std::uint64_t quiet_steps() const;
+  void skip(std::uint64_t n) { core_.skip(n); }
 
   // ---- queries, no side effects
   bool teach_active() const;                                     // §4.10, on the levels applied so far

@@ -189,6 +189,7 @@ AbortCode ObjectDictionary::check_limits(const Entry& e, std::int64_t v, bool bu
 void ObjectDictionary::store(Entry& e, Value v) {
   if (same(e.value, v)) return;
   e.value = std::move(v);
+  ++generation_;
   for (const auto& l : listeners_) l(e.info, e.value);
 }
 
@@ -307,6 +308,7 @@ std::vector<LoadIssue> ObjectDictionary::load_values(std::span<const StoredValue
         continue;
       }
     }
+    if (!same(e.value, *v)) ++generation_;
     e.value = std::move(*v);
   }
   return issues;

@@ -126,6 +126,9 @@ class ObjectDictionary {
   // Ascending (index, sub); the value is the stored value (read hooks are not run).
   void for_each(const std::function<void(const EntryInfo&, const Value&)>& fn) const;
   std::size_t size() const { return entries_.size(); }
+  // Counts every change of a stored value, also by load_values(): equal counts mean no value
+  // changed in between (the quiet-step checks of the clock, drive-core.md §2).
+  std::uint64_t generation() const { return generation_; }
 
   // Fast paths for components that own entries (the drive core). find() resolves once;
   // number() reads the stored value (no hook); set() is an internal write with the full checks.
@@ -165,6 +168,7 @@ class ObjectDictionary {
   std::vector<Entry> entries_;
   std::vector<ObjectSlot> objects_;
   std::vector<ChangeListener> listeners_;
+  std::uint64_t generation_ = 0;
 };
 
 // Value-interface conversion of §3.2 steps 1–4: checks kind and data-type range; a negative value
