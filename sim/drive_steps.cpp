@@ -1,0 +1,55 @@
+#include "sim/drive_steps.hpp"
+
+#include <algorithm>
+
+namespace mcemu::sim {
+
+DriveSteps::DriveSteps(od::ObjectDictionary& od, iofunc::IoFunctions& io, const core::DriveCore& core)
+    : od_(od), io_(io), core_(core) {}
+
+void DriveSteps::step() {
+  dirty_ = false;
+  io_.step();
+  for (Part* p : parts_) p->step();
+  generation_ = od_.generation();
+}
+
+std::uint64_t DriveSteps::quiet_steps() const {
+  if (dirty_ || od_.generation() != generation_) return 0;
+  std::uint64_t q = io_.quiet_steps();
+  for (const Part* p : parts_) {
+    if (q == 0) break;
+    q = std::min(q, p->quiet_steps());
+  }
+  return q;
+}
+
+void DriveSteps::skip(std::uint64_t n) {
+  if (n == 0) return;
+  io_.skip(n);
+  for (Part* p : parts_) p->skip(n);
+}
+
+std::uint64_t DriveSteps::next_deadline_ms() const {
+  const std::uint64_t q = quiet_steps();
+  return q == k_forever ? k_forever : time_ms() + q + 1;
+}
+
+Advanced DriveSteps::advance_to(std::uint64_t t, std::uint64_t max_full) {
+  if (t <= time_ms()) return {};
+  return advance(*this, t - time_ms(), max_full);
+}
+
+std::uint64_t FaultsPart::quiet_steps() const {
+  const auto e = faults_.next_expiry();
+  return e ? steps_before(*e, core_.time_ms()) : k_forever;
+}
+
+std::uint64_t RefgoPart::quiet_steps() const {
+  const auto& p = refgo_.programs();
+  if (p.back_and_forth_active()) return 0;  // follows the drive every step
+  const auto due = p.jog_stop_due_ms();
+  return due ? steps_before(*due, core_.time_ms()) : k_forever;
+}
+
+}  // namespace mcemu::sim

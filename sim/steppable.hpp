@@ -1,0 +1,54 @@
+// Simulated time that is asked, not polled (design.md; spec README "Time"; drive-core.md §2): the
+// interface the clock driver advances, and the one algorithm that advances it — quiet stretches
+// skipped in O(1), full steps bounded per call.
+//
+// Contract: pure, single-threaded. A Steppable is one drive (DriveSteps) or several (Fleet).
+// quiet_steps() = how many of the next 1 ms steps would change nothing but what skip() reproduces;
+// skip(n) with n ≤ quiet_steps() leaves exactly the state n step() calls leave. touch() says that
+// something outside a step changed (or read) the drive: the next step is a full one.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <vector>
+
+namespace mcemu::sim {
+
+inline constexpr std::uint64_t k_forever = std::numeric_limits<std::uint64_t>::max();
+
+class Steppable {
+ public:
+  virtual ~Steppable() = default;
+  virtual void step() = 0;
+  virtual std::uint64_t quiet_steps() const = 0;
+  virtual void skip(std::uint64_t n) = 0;
+  virtual void touch() = 0;
+};
+
+struct Advanced {
+  std::uint64_t steps = 0;  // ms of drive time advanced (full + skipped)
+  std::uint64_t full = 0;   // full steps run
+};
+
+// Advances at most `n` ms: quiet stretches by skip(), the rest by step(), at most `max_full` full
+// steps. Stops early after a full step when `hold` answers true (a script woken by it, under the
+// manual clock). Returns what was done; fewer than n steps only when max_full or hold stopped it.
+Advanced advance(Steppable& s, std::uint64_t n, std::uint64_t max_full = k_forever,
+                 const std::function<bool()>& hold = {});
+
+// N drives on one clock (spec README --drives): a drive that is quiet while another needs a step
+// is skipped by one step instead of stepped.
+class Fleet final : public Steppable {
+ public:
+  void add(Steppable& drive) { drives_.push_back(&drive); }
+  void step() override;
+  std::uint64_t quiet_steps() const override;
+  void skip(std::uint64_t n) override;
+  void touch() override;
+
+ private:
+  std::vector<Steppable*> drives_;
+};
+
+}  // namespace mcemu::sim
