@@ -36,6 +36,11 @@ Node::Node(od::ObjectDictionary& od, CanopenConfig config, Hooks hooks)
   }
 }
 
+void Node::set_faults(Faults faults) {
+  sdo_.set_faults(std::move(faults.sdo));
+  heartbeat_stop_ = std::move(faults.heartbeat_stop);
+}
+
 Node::~Node() {
   if (od_.find(0x1017, 0)) od_.on_write(0x1017, 0, {});
 }
@@ -121,6 +126,7 @@ std::vector<can::Frame> Node::advance(Millis now) {
   if (guarding_.advance(now_, heartbeat_.enabled())) life_guarding_expired();
   if (state_ == NmtState::operational) tpdo_.check(now_, out_);
   heartbeat_.advance(now_, state_, node_id_, out_);
+  if (!out_.heartbeat.empty() && heartbeat_stop_ && heartbeat_stop_()) out_.heartbeat.clear();
   return finish();
 }
 

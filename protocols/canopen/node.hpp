@@ -20,6 +20,9 @@
 //   after every OD write the node makes, so the caller can drain drive-core events and hand EMCYs
 //   back through emit_emcy() in the right place); diagnostic (trace text); wake (output became
 //   available outside a processing call: a completed Store/Restore, an EMCY — call advance()).
+// - Fault injection (slcan-canopen.md §11.3) through Faults: the SDO server's (sdo_server.hpp) and
+//   heartbeat_stop, asked for every heartbeat that is due: true = that heartbeat is not produced
+//   (the period runs on).
 #pragma once
 
 #include <array>
@@ -51,6 +54,11 @@ class Node {
     std::function<void()> wake;
   };
 
+  struct Faults {
+    SdoFaults sdo;
+    std::function<bool()> heartbeat_stop;
+  };
+
   Node(od::ObjectDictionary& od, CanopenConfig config, Hooks hooks = {});
   ~Node();
   Node(const Node&) = delete;
@@ -71,6 +79,8 @@ class Node {
   // in use is kept (§10, 1011h).
   void reload();
 
+  void set_faults(Faults faults);
+
   NmtState state() const { return state_; }
   std::uint8_t node_id() const { return node_id_; }
 
@@ -90,6 +100,7 @@ class Node {
   od::ObjectDictionary& od_;
   CanopenConfig config_;
   Hooks hooks_;
+  std::function<bool()> heartbeat_stop_;
   SdoServer sdo_;
   TpdoSet tpdo_;
   RpdoSet rpdo_;

@@ -60,6 +60,7 @@ void SdoServer::send_sub_block(BlockUpload& s, std::vector<Payload>& out) {
 void SdoServer::block_upload_request(const Payload& req, BlockUpload& s, Millis now, std::vector<Payload>& out) {
   const int ss = req[0] & 0x03;
   if (s.phase == BlockUpload::Phase::start && ss == 3) {
+    if (injected_abort(SdoFaultPhase::segment, out)) return;
     send_sub_block(s, out);
     keep_alive(now);
     return;
@@ -72,6 +73,7 @@ void SdoServer::block_upload_request(const Payload& req, BlockUpload& s, Millis 
     s.offset = std::min(s.data.size(), s.offset + 7 * static_cast<std::size_t>(ack));
     s.blksize = blk;
     if (ack == s.sent && s.sent_last) {
+      if (injected_abort(SdoFaultPhase::end, out)) return;
       const std::size_t n = s.data.empty() ? 7 : (7 - s.data.size() % 7) % 7;
       Payload p{};
       p[0] = static_cast<std::uint8_t>(0xC1 | (n << 2));
@@ -83,6 +85,7 @@ void SdoServer::block_upload_request(const Payload& req, BlockUpload& s, Millis 
       out.push_back(p);
       s.phase = BlockUpload::Phase::end;
     } else {
+      if (injected_abort(SdoFaultPhase::segment, out)) return;
       send_sub_block(s, out);  // the next sub-block, or a resend from the first unacknowledged byte
     }
     keep_alive(now);
@@ -141,6 +144,7 @@ void SdoServer::block_download_segment(const Payload& req, BlockDownload& s, Mil
   if (s.data.size() + 7 > k_max_transfer) return abort(od::AbortCode::out_of_memory, out);
   s.data.insert(s.data.end(), req.begin() + 1, req.end());
   s.last_seq = seq;
+  if ((last || seq == s.blksize) && injected_abort(SdoFaultPhase::segment, out)) return;
   if (last) {
     ack(seq);
     s.awaiting_end = true;
@@ -150,6 +154,7 @@ void SdoServer::block_download_segment(const Payload& req, BlockDownload& s, Mil
 }
 
 void SdoServer::block_download_end(const Payload& req, BlockDownload& s, std::vector<Payload>& out) {
+  if (injected_abort(SdoFaultPhase::end, out)) return;
   const std::size_t n = (req[0] >> 2) & 0x07;
   const std::size_t total = s.data.size() >= n ? s.data.size() - n : 0;
   s.data.resize(total);

@@ -70,6 +70,26 @@ std::optional<std::size_t> SdoServer::max_size() const {
 
 void SdoServer::on_request(const Payload& req, Millis now, std::vector<Payload>& out) {
   collect(now, out);
+  const std::size_t before = out.size();
+  const auto* pending_before = std::get_if<Pending>(&state_);
+  const std::uint64_t serial_before = pending_before ? pending_before->serial : 0;
+  handle(req, now, out);
+  auto* pending = std::get_if<Pending>(&state_);
+  const bool now_pending = pending != nullptr && pending->serial != serial_before;
+  if ((out.size() == before && !now_pending) || !faults_.no_reply || !faults_.no_reply(index_)) return;
+  out.resize(before);
+  if (now_pending) pending->silent = true;
+}
+
+bool SdoServer::injected_abort(SdoFaultPhase phase, std::vector<Payload>& out) {
+  if (!faults_.abort) return false;
+  const auto code = faults_.abort(index_, sub_, phase);
+  if (!code) return false;
+  abort(static_cast<od::AbortCode>(*code), out);
+  return true;
+}
+
+void SdoServer::handle(const Payload& req, Millis now, std::vector<Payload>& out) {
   const std::uint8_t b0 = req[0];
   const int ccs = b0 >> 5;
   const auto req_index = static_cast<std::uint16_t>(req[1] | (req[2] << 8));
@@ -101,6 +121,7 @@ void SdoServer::on_request(const Payload& req, Millis now, std::vector<Payload>&
     reset();  // an old transfer is dropped silently (§6.7)
     index_ = req_index;
     sub_ = req_sub;
+    if (injected_abort(SdoFaultPhase::initiate, out)) return;
     switch (ccs) {
       case 1: download_initiate(req, req_index, req_sub, now, out); return;
       case 2: upload_initiate(req_index, req_sub, now, out); return;
@@ -140,7 +161,9 @@ void SdoServer::collect(Millis, std::vector<Payload>& out) {
   for (const auto& c : completions) {
     auto* p = std::get_if<Pending>(&state_);
     if (p == nullptr || p->serial != c.serial) continue;  // cancelled
-    if (c.code == od::AbortCode::none) {
+    if (p->silent) {
+      reset();
+    } else if (c.code == od::AbortCode::none) {
       out.push_back(p->success);
       reset();
     } else {
@@ -164,6 +187,7 @@ void SdoServer::upload_initiate(std::uint16_t index, std::uint8_t sub, Millis no
   std::transform(bytes->begin(), bytes->end(), data.begin(),
                  [](std::byte b) { return std::to_integer<std::uint8_t>(b); });
   if (!data.empty() && data.size() <= 4) {
+    if (injected_abort(SdoFaultPhase::end, out)) return;  // the one exchange ends the transfer
     Payload p = header(static_cast<std::uint8_t>(0x43 | ((4 - data.size()) << 2)), index, sub);
     std::copy(data.begin(), data.end(), p.begin() + 4);
     out.push_back(p);
@@ -181,6 +205,7 @@ void SdoServer::upload_segment(const Payload& req, SegUpload& s, Millis now, std
   if (t != s.toggle) return abort(od::AbortCode::toggle_bit, out);
   const std::size_t chunk = std::min<std::size_t>(7, s.data.size() - s.pos);
   const bool last = s.pos + chunk == s.data.size();
+  if (injected_abort(SdoFaultPhase::segment, out) || (last && injected_abort(SdoFaultPhase::end, out))) return;
   Payload p{};
   p[0] = static_cast<std::uint8_t>((t << 4) | ((7 - chunk) << 1) | (last ? 1 : 0));
   std::copy_n(s.data.begin() + static_cast<std::ptrdiff_t>(s.pos), chunk, p.begin() + 1);
@@ -202,6 +227,7 @@ void SdoServer::download_initiate(const Payload& req, std::uint16_t index, std::
   const bool size_indicated = (req[0] & 0x01) != 0;
   const Payload success = header(0x60, index, sub);
   if (expedited) {
+    if (injected_abort(SdoFaultPhase::end, out)) return;  // the one exchange ends the transfer
     const std::size_t n = size_indicated ? 4 - ((req[0] >> 2) & 0x03) : 4;
     finish_download(std::span<const std::uint8_t>(req.data() + 4, n),
                     size_indicated ? od::SdoLength::indicated : od::SdoLength::expedited_unindicated, success, out);
@@ -220,6 +246,7 @@ void SdoServer::download_segment(const Payload& req, SegDownload& s, Millis now,
   if (t != s.toggle) return abort(od::AbortCode::toggle_bit, out);
   const std::size_t n = (req[0] >> 1) & 0x07;
   const bool last = (req[0] & 0x01) != 0;
+  if (injected_abort(SdoFaultPhase::segment, out) || (last && injected_abort(SdoFaultPhase::end, out))) return;
   s.data.insert(s.data.end(), req.begin() + 1, req.begin() + 1 + static_cast<std::ptrdiff_t>(7 - n));
   const auto limit = s.size ? s.size : max_size();
   if (limit && s.data.size() > *limit) return abort(od::AbortCode::length_too_high, out);

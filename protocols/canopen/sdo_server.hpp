@@ -12,6 +12,14 @@
 //   or a new initiate cancels only that response.
 // - advance() applies the server timeout (§6.8); next_deadline() says when it is due.
 // - reset() ends any transfer silently (NMT reset, STOPPED).
+// - Fault injection (slcan-canopen.md §11.3) through SdoFaults: `abort` is asked at each phase of
+//   a transfer — initiate (the answer to the initiate request), segment (the answer to a segment
+//   request of a segmented transfer, a block download's sub-block acknowledgement, a block
+//   upload's sub-block), end (the answer that completes the transfer; an expedited transfer's one
+//   exchange is its initiate and its end) — and a code it returns is sent as the abort instead of
+//   the answer, before the OD is written; `no_reply` is asked for every request that gets an
+//   answer (index = the transfer's index) and true swallows that answer, a later Store
+//   completion included. Both may be empty.
 #pragma once
 
 #include <functional>
@@ -25,6 +33,13 @@
 #include "protocols/canopen/types.hpp"
 
 namespace mcemu::canopen {
+
+enum class SdoFaultPhase : std::uint8_t { initiate, segment, end };
+
+struct SdoFaults {
+  std::function<std::optional<std::uint32_t>(std::uint16_t index, std::uint8_t sub, SdoFaultPhase phase)> abort;
+  std::function<bool(std::uint16_t index)> no_reply;
+};
 
 class SdoServer {
  public:
@@ -43,6 +58,7 @@ class SdoServer {
   bool has_completions() const;
   // Called when a pending write completes (possibly outside any processing call).
   void set_wake(std::function<void()> wake);
+  void set_faults(SdoFaults faults) { faults_ = std::move(faults); }
 
   // Largest transfer accepted into memory for an entry without a size limit (strings).
   static constexpr std::size_t k_max_transfer = 16u << 20;
@@ -81,11 +97,15 @@ class SdoServer {
   struct Pending {
     std::uint64_t serial = 0;
     Payload success{};
+    bool silent = false;  // slcan.sdoNoReply: the completion is not answered
   };
   using State = std::variant<Idle, SegUpload, SegDownload, BlockDownload, BlockUpload, Pending>;
 
   struct Shared;  // completion slot shared with the OD's Done callbacks
 
+  void handle(const Payload& req, Millis now, std::vector<Payload>& out);
+  // slcan.sdoAbort at this phase of the current transfer: true = the abort was sent (now idle).
+  bool injected_abort(SdoFaultPhase phase, std::vector<Payload>& out);
   void upload_initiate(std::uint16_t index, std::uint8_t sub, Millis now, std::vector<Payload>& out);
   void download_initiate(const Payload& req, std::uint16_t index, std::uint8_t sub, Millis now,
                          std::vector<Payload>& out);
@@ -115,6 +135,7 @@ class SdoServer {
   std::uint8_t sub_ = 0;
   std::optional<Millis> deadline_;
   std::uint64_t next_serial_ = 1;
+  SdoFaults faults_;
 };
 
 // Payload helpers shared with the tests.

@@ -10,6 +10,7 @@ void LineAssembler::feed(std::string_view bytes, std::vector<Line>& out) {
       continue;
     }
     last_was_cr_ = c == '\r';
+    if (current_.raw.size() <= max_length_) current_.raw.push_back(ch);
     if (c == '\r' || c == '\n') {
       out.push_back(std::move(current_));
       current_ = Line{};

@@ -19,6 +19,9 @@ namespace mcemu::line {
 struct Line {
   std::string text;       // filtered bytes, without the terminator (truncated if over-long)
   bool overlong = false;  // more than max_length bytes arrived before the terminator
+  // The bytes as received, unfiltered, with the terminator (CR or LF) — for the trace. At most
+  // max_length + 1 bytes are kept: an over-long line keeps its beginning.
+  std::string raw;
 };
 
 // Returns the byte to keep, or -1 to drop it. Never called for CR or LF.

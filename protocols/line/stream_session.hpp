@@ -29,6 +29,9 @@ class StreamSession {
   virtual bool finished() const = 0;
   // true: the adapter must stop reading (e.g. waiting for a Store so that replies stay in order).
   virtual bool paused() const { return false; }
+  // The adapter is about to close the connection on its own ("queue overflow", "idle timeout"),
+  // for the trace (slcan-canopen.md §11.2); the session is destroyed after it.
+  virtual void closing(std::string_view /*reason*/) {}
   void set_wake(std::function<void()> wake) { wake_ = std::move(wake); }
 
  protected:

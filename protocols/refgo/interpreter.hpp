@@ -11,6 +11,8 @@
 //   of 6040h, 6060h or 60FFh not made by the interpreter's own programs stops Back & Forth and the
 //   jog timer (refgo.md §7.7: a motion command from any source); the constructor registers that
 //   listener on the dictionary, so the interpreter must outlive every write to it.
+// - The attachment (refgo.md §5) decides per line whether the sessions execute it here, forward it
+//   to a script, or both; execute() itself never looks at it (refgo.cmd and the web box bypass it).
 // - execute() never throws on any input. It returns the complete reply of the line, or nullopt when
 //   the reply follows later (an OW to 1010h/1011h/3010h.01 answers when the file is durable,
 //   refgo.md §2.5); `later` then receives the reply exactly once, on the event-loop thread. The
@@ -26,6 +28,7 @@
 #include "drive/drive_core.hpp"
 #include "drive/helpers/helpers.hpp"
 #include "drive/od/dictionary.hpp"
+#include "protocols/refgo/attachment.hpp"
 #include "protocols/refgo/command.hpp"
 #include "protocols/refgo/programs.hpp"
 
@@ -60,12 +63,16 @@ class Interpreter {
   const Programs& programs() const { return programs_; }
   Variables& variables() { return vars_; }
   const Variables& variables() const { return vars_; }
+  // A script attached to port 10001 (refgo.md §5); the sessions route their lines through it.
+  Attachment& attachment() { return attachment_; }
+  const Attachment& attachment() const { return attachment_; }
 
  private:
   od::ObjectDictionary& od_;
   core::DriveCore& core_;
   Variables vars_;
   Programs programs_;
+  Attachment attachment_;
 };
 
 }  // namespace mcemu::refgo

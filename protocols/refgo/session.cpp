@@ -10,7 +10,13 @@
 namespace mcemu::refgo {
 
 Session::Session(Interpreter& interpreter)
-    : interpreter_(interpreter), assembler_(k_max_line, filter_byte), self_(std::make_shared<Session*>(this)) {}
+    : interpreter_(interpreter),
+      assembler_(k_max_line, filter_byte),
+      self_(std::make_shared<Session*>(this)),
+      registration_(interpreter.attachment().add_connection([this](std::string_view bytes) {
+        emit(std::string(bytes));
+        wake();
+      })) {}
 
 Session::~Session() { *self_ = nullptr; }
 
@@ -18,8 +24,19 @@ void Session::receive(std::string_view bytes) {
   if (closed_) return;
   std::vector<line::Line> lines;
   assembler_.feed(bytes, lines);
-  for (auto& l : lines) queue_.push_back(std::move(l));
+  for (auto& l : lines) {
+    if (observer_.received) observer_.received(l);
+    queue_.push_back(std::move(l));
+  }
   run();
+}
+
+void Session::emit(std::string reply) {
+  if (sink_) {
+    sink_(std::move(reply));
+  } else {
+    output_ += reply;
+  }
 }
 
 void Session::run() {
@@ -27,23 +44,32 @@ void Session::run() {
     const line::Line l = std::move(queue_.front());
     queue_.pop_front();
     if (l.overlong) {
-      output_ += k_prompt;
+      emit(std::string(k_prompt));
       continue;
     }
-    std::weak_ptr<Session*> weak = self_;
-    auto r = interpreter_.execute(l.text, [weak](const std::string& late) {
-      if (auto alive = weak.lock(); alive && *alive) (*alive)->on_late_reply(late);
-    });
-    if (r) {
-      output_ += *r;
-    } else {
-      waiting_ = true;
+    const Route route = interpreter_.attachment().route(l.text);
+    if (route.execute) {
+      std::weak_ptr<Session*> weak = self_;
+      auto r = interpreter_.execute(l.text, [weak](const std::string& late) {
+        if (auto alive = weak.lock(); alive && *alive) (*alive)->on_late_reply(late);
+      });
+      if (r) {
+        emit(std::move(*r));
+      } else {
+        waiting_ = true;
+      }
+    }
+    if (route.forward) {
+      auto& attachment = interpreter_.attachment();
+      const auto dropped_before = attachment.dropped();
+      attachment.forward(registration_->id(), l.text);
+      if (observer_.to_script) observer_.to_script(l.text, attachment.dropped() != dropped_before);
     }
   }
 }
 
 void Session::on_late_reply(const std::string& reply) {
-  output_ += reply;
+  emit(reply);
   waiting_ = false;
   run();
   wake();

@@ -36,9 +36,14 @@ void Session::peer_closed() {
 }
 
 void Session::handle_line(const line::Line& l) {
-  if (trace_) trace_({TraceEvent::Dir::rx, l.text, l.overlong});
+  if (trace_) trace_({TraceEvent::Dir::rx, l.overlong ? l.raw.substr(0, k_max_line) : l.raw, l.overlong});
   if (l.overlong) {
     event(std::string("BEL: ") + std::string(to_string(ParseError::overlong)));
+    reply("\a");
+    return;
+  }
+  if (bel_ && bel_()) {
+    event("BEL: injected (slcan.bel)");
     reply("\a");
     return;
   }
@@ -121,6 +126,11 @@ void Session::deliver(const can::Frame& frame, std::chrono::milliseconds stamp) 
   if (state_ == ChannelState::closed || finished()) return;
   const std::string line = encode_frame(frame, timestamps_ ? std::optional(stamp) : std::nullopt);
   queue(line, true);
+}
+
+void Session::send_raw(std::string_view text) {
+  if (finished() || text.empty()) return;
+  queue(text, true);
 }
 
 void Session::queue(std::string_view text, bool from_node) {

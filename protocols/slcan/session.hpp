@@ -31,7 +31,7 @@ enum class ChannelState : std::uint8_t { open, listen, closed };
 // What a session reports for the trace of §11.2 (channel `slcan`).
 struct TraceEvent {
   enum class Dir : std::uint8_t { rx, tx, event } dir;
-  std::string text;       // raw line (rx: without terminator, tx: with CR/BEL) or event description
+  std::string text;       // raw line (rx: as received, with its CR or LF; tx: with CR/BEL) or event text
   bool overlong = false;  // rx only
 };
 
@@ -54,6 +54,11 @@ class Session final : public line::StreamSession {
   // simulated time since the drive's power on (used only after Z1).
   void deliver(const can::Frame& frame, std::chrono::milliseconds stamp);
   void set_trace(Trace trace) { trace_ = std::move(trace); }
+  // slcan.bel (slcan-canopen.md §11.3): asked once per complete line that is not over-long; true =
+  // the line is answered `\a` instead of its normal reply and has no other effect.
+  void set_bel_fault(std::function<bool()> bel) { bel_ = std::move(bel); }
+  // slcan.rawTx: `text` is written to this client as it is, in any session state.
+  void send_raw(std::string_view text);
 
   ChannelState state() const { return state_; }
   bool timestamps() const { return timestamps_; }
@@ -72,6 +77,7 @@ class Session final : public line::StreamSession {
   ToNode to_node_;
   SerialSource serial_;
   Trace trace_;
+  std::function<bool()> bel_;
   line::LineAssembler assembler_{k_max_line, line::keep_all};
   std::string output_;
   ChannelState state_ = ChannelState::open;

@@ -33,7 +33,7 @@ bool is_registration(std::string_view payload) {
   return std::all_of(payload.begin(), payload.end(), [](char c) { return c == '\r' || c == '\n'; });
 }
 
-Console::Received Console::on_datagram(const Peer& from, std::string_view payload) {
+Console::Received Console::on_datagram(const Peer& from, std::string_view payload, Stamp stamp) {
   if (from == own_) return Received::own;
   if (!is_registration(payload)) {
     ++ignored_;
@@ -42,6 +42,7 @@ Console::Received Console::on_datagram(const Peer& from, std::string_view payloa
   auto it = std::find_if(listeners_.begin(), listeners_.end(), [&](const Listener& l) { return l.peer == from; });
   if (it != listeners_.end()) {
     it->registered_seq = next_seq_++;
+    it->registered = std::move(stamp);
   } else {
     if (listeners_.size() >= k_max_listeners) {
       // Evict the listener whose latest registration is the oldest (udp-debug.md §2.4).
@@ -52,7 +53,7 @@ Console::Received Console::on_datagram(const Peer& from, std::string_view payloa
       listeners_.erase(oldest);
       std::erase_if(queues_, [&](const Queue& q) { return q.to == gone; });
     }
-    listeners_.push_back({from, next_seq_++});
+    listeners_.push_back({from, next_seq_++, std::move(stamp)});
   }
   // Initial response (§2.3): backlog, the registration bytes, the prompt.
   while (!backlog_.empty()) {

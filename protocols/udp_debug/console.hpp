@@ -33,9 +33,17 @@ struct Datagram {
   std::string payload;
 };
 
+// When a datagram arrived: drive time and UTC wall time ("2026-01-15T10:15:02.123Z"), as the
+// adapter knows them (udp-debug.md §6 shows the registration time).
+struct Stamp {
+  std::uint64_t drive_ms = 0;
+  std::string wall;
+};
+
 struct Listener {
   Peer peer;
   std::uint64_t registered_seq = 0;  // order of the latest registration (larger = newer)
+  Stamp registered;                  // time of the latest registration
 };
 
 // Packs whole messages into datagrams of at most `max` bytes; a longer message is cut into
@@ -53,7 +61,7 @@ class Console {
   void set_own(Peer own) { own_ = std::move(own); }
 
   // A datagram arrived. A registration queues the initial response of §2.3 to its sender.
-  Received on_datagram(const Peer& from, std::string_view payload);
+  Received on_datagram(const Peer& from, std::string_view payload, Stamp stamp = {});
   // One console message: to every listener, or into the backlog while nobody listens (§3).
   void emit(std::string message);
 

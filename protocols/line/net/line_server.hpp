@@ -9,41 +9,25 @@
 // - after the peer's FIN the session answers the complete lines it has, then the connection is
 //   shut down after the last byte is written; EPIPE/ECONNRESET are ordinary disconnects;
 // - bounded output: above pause_above unsent bytes reading stops until the backlog is below
-//   resume_below (RefGo), or — with close_on_overflow — the connection is closed (SLCAN).
-// Threading: everything runs on the io_context's single thread.
+//   resume_below (RefGo), or — with close_on_overflow — the connection is closed (SLCAN);
+// - with idle_timeout, a connection that sent nothing for that long is closed (--idle-timeout).
+// The per-connection logic is line_connection.hpp. Threading: the io_context's single thread.
 #pragma once
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <cstddef>
 #include <functional>
+#include <map>
 #include <memory>
-#include <set>
 #include <string>
 
+#include "protocols/line/net/line_connection.hpp"
 #include "protocols/line/stream_session.hpp"
 
 namespace mcemu::line::net {
 
-struct LineServerOptions {
-  std::string name;  // "refgo", "slcan": used in log lines
-  std::string flag;  // the command-line flag that sets the port, for the bind error message
-  std::size_t max_clients = 8;
-  std::string max_clients_flag = "--max-clients";
-  std::size_t read_chunk = 4096;
-  std::size_t pause_above = 256 * 1024;
-  std::size_t resume_below = 64 * 1024;
-  bool close_on_overflow = false;
-};
-
-struct PeerInfo {
-  std::string address;   // "127.0.0.1:53122"
-  std::uint64_t id = 0;  // unique per accepted connection
-};
-
 using SessionFactory = std::function<std::unique_ptr<StreamSession>(const PeerInfo&)>;
-
-class Connection;
 
 class LineServer {
  public:
@@ -63,15 +47,14 @@ class LineServer {
   const LineServerOptions& options() const { return options_; }
 
  private:
-  friend class Connection;
+  using Connection = LineConnection<boost::asio::ip::tcp::socket>;
   void do_accept();
   void on_accept(const boost::system::error_code& ec, boost::asio::ip::tcp::socket socket);
-  void forget(const std::shared_ptr<Connection>& c);
 
   boost::asio::ip::tcp::acceptor acceptor_;
   LineServerOptions options_;
   SessionFactory factory_;
-  std::set<std::shared_ptr<Connection>> connections_;
+  std::map<LineConnectionBase*, std::shared_ptr<Connection>> connections_;
   std::uint64_t next_id_ = 1;
   bool accepting_ = false;
 };

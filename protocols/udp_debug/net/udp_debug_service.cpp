@@ -41,8 +41,15 @@ void UdpDebugService::stop() {
 }
 
 void UdpDebugService::emit(std::string message) {
+  remember(message);
   console_.emit(std::move(message));
   schedule_flush();
+}
+
+void UdpDebugService::remember(const std::string& message) {
+  if (history_.size() == k_history) history_.pop_front();
+  history_.push_back(message);
+  if (listener_) listener_(message);
 }
 
 void UdpDebugService::note(std::string_view text) {
@@ -50,7 +57,10 @@ void UdpDebugService::note(std::string_view text) {
 }
 
 void UdpDebugService::power_up(std::string_view ip, std::string_view script_id) {
-  for (auto& m : startup_block(ip, script_id)) console_.emit(std::move(m));
+  for (auto& m : startup_block(ip, script_id)) {
+    remember(m);
+    console_.emit(std::move(m));
+  }
   schedule_flush();
 }
 
@@ -79,7 +89,9 @@ void UdpDebugService::on_receive(const boost::system::error_code& ec, std::size_
   } else {
     ++counters_.datagrams_received;
     const Peer from = peer_of(sender_);
-    const auto r = console_.on_datagram(from, std::string_view(buffer_.data(), n));
+    const std::string_view payload(buffer_.data(), n);
+    const auto r = console_.on_datagram(from, payload, taps_.now ? taps_.now() : Stamp{});
+    if (taps_.received) taps_.received(from, payload, r);
     if (r == Console::Received::registered) {
       spdlog::debug("udp: listener {}:{} registered", from.address, from.port);
       schedule_flush();
@@ -101,6 +113,10 @@ void UdpDebugService::schedule_flush() {
 void UdpDebugService::flush() {
   if (!running_) return;
   for (const auto& d : console_.take_datagrams()) {
+    if (taps_.may_send && !taps_.may_send(d)) {
+      ++counters_.datagrams_dropped;
+      continue;
+    }
     boost::system::error_code ec;
     const auto address = asio::ip::make_address(d.to.address, ec);
     if (!ec) socket_.send_to(asio::buffer(d.payload), udp::endpoint(address, d.to.port), 0, ec);
@@ -108,6 +124,7 @@ void UdpDebugService::flush() {
       ++counters_.datagrams_dropped;
     } else {
       ++counters_.datagrams_sent;
+      if (taps_.sent) taps_.sent(d);
     }
   }
 }

@@ -6,12 +6,17 @@
 // refuses is dropped and counted; a receive error is counted and the next receive starts at once.
 // The composition root calls power_up() at process start and power_cycle() for a power cycle
 // (listeners and backlog forgotten, start-up block produced again, persistence.md §7).
+// Taps (udp-debug.md §6, web.md §9, morse-led.md §5.2), through Taps: the time stamp of a
+// registration, every datagram received (with the console's verdict) and sent, and a veto per
+// datagram before it is sent (udp.drop: counted as dropped, not sent).
 #pragma once
 
 #include <array>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
 #include <cstdint>
+#include <deque>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -28,6 +33,13 @@ struct Counters {
 
 class UdpDebugService {
  public:
+  struct Taps {
+    std::function<Stamp()> now;  // drive and wall time of a received datagram
+    std::function<void(const Peer& from, std::string_view payload, Console::Received r)> received;
+    std::function<bool(const Datagram& d)> may_send;  // false: not sent (counted as dropped)
+    std::function<void(const Datagram& d)> sent;
+  };
+
   UdpDebugService(boost::asio::io_context& io, boost::asio::ip::udp::socket& socket);
   ~UdpDebugService();
   UdpDebugService(const UdpDebugService&) = delete;
@@ -41,6 +53,7 @@ class UdpDebugService {
   // An emulator note "mcemu: <text>\r\n", sent only while notes are on (udp-debug.md §4.7).
   void note(std::string_view text);
   void set_notes(bool on) { notes_ = on; }
+  void set_taps(Taps taps) { taps_ = std::move(taps); }
   bool notes() const { return notes_; }
 
   // The start-up block of a power-up (udp-debug.md §4.1).
@@ -50,8 +63,14 @@ class UdpDebugService {
 
   const Console& console() const { return console_; }
   const Counters& counters() const { return counters_; }
+  // Every console message as it is produced, whether or not a listener is registered (the
+  // WebSocket channel "udp", udp-debug.md §6), and the last k_history of them (GET /api/v1/udp).
+  void set_message_listener(std::function<void(const std::string&)> listener) { listener_ = std::move(listener); }
+  static constexpr std::size_t k_history = 500;
+  const std::deque<std::string>& history() const { return history_; }
 
  private:
+  void remember(const std::string& message);
   void do_receive();
   void on_receive(const boost::system::error_code& ec, std::size_t n);
   void schedule_flush();
@@ -63,6 +82,9 @@ class UdpDebugService {
   Counters counters_;
   std::array<char, 2048> buffer_{};
   boost::asio::ip::udp::endpoint sender_;
+  std::function<void(const std::string&)> listener_;
+  Taps taps_;
+  std::deque<std::string> history_;
   bool notes_ = false;
   bool running_ = false;
   bool flush_posted_ = false;

@@ -88,5 +88,22 @@ TEST(AssemblerLimits, ResetForgetsPartialLineAndPendingCr) {
   EXPECT_EQ(lines[1].text, "X");
 }
 
+// The raw bytes of each line for the trace (refgo.md §13): unfiltered, with the terminator that
+// ended it, bounded for an over-long line; the same for every split.
+TEST(AssemblerRaw, KeepsTheBytesAsReceived) {
+  const std::string input = "OW\t1\x01\r\nTS\n" + std::string(30, 'X') + "\r";
+  for (std::size_t chunk = 1; chunk <= input.size(); ++chunk) {
+    LineAssembler a(10, drop_controls);
+    std::vector<Line> out;
+    for (std::size_t i = 0; i < input.size(); i += chunk) a.feed(std::string_view(input).substr(i, chunk), out);
+    ASSERT_EQ(out.size(), 3u);
+    EXPECT_EQ(out[0].text, "OW 1");
+    EXPECT_EQ(out[0].raw, "OW\t1\x01\r") << "the LF after CR belongs to no line";
+    EXPECT_EQ(out[1].raw, "TS\n");
+    EXPECT_TRUE(out[2].overlong);
+    EXPECT_EQ(out[2].raw, std::string(11, 'X')) << "at most max + 1 bytes";
+  }
+}
+
 }  // namespace
 }  // namespace mcemu::line

@@ -39,6 +39,10 @@ class EchoSession final : public StreamSession {
   std::string take_output() override { return std::exchange(out_, {}); }
   void peer_closed() override { closed_ = true; }
   bool finished() const override { return closed_; }
+  void closing(std::string_view reason) override {
+    if (on_closing) on_closing(reason);
+  }
+  std::function<void(std::string_view)> on_closing;
   void push(const std::string& s) {
     out_ += s;
     wake();
@@ -56,7 +60,9 @@ struct Server {
   explicit Server(LineServerOptions o, std::size_t repeat = 1) {
     server = std::make_unique<LineServer>(
         io, tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0), std::move(o), [this, repeat](const PeerInfo&) {
-          return std::make_unique<EchoSession>(received, repeat, [this](EchoSession* s) { last = s; });
+          auto s = std::make_unique<EchoSession>(received, repeat, [this](EchoSession* e) { last = e; });
+          s->on_closing = [this](std::string_view reason) { overflow_reported = reason == "queue overflow"; };
+          return s;
         });
     server->start();
     thread = std::thread([this] { io.run(); });
@@ -91,6 +97,7 @@ struct Server {
   std::unique_ptr<LineServer> server;
   std::atomic<std::size_t> received{0};
   std::atomic<EchoSession*> last{nullptr};
+  std::atomic<bool> overflow_reported{false};
   std::thread thread;
 };
 
@@ -205,6 +212,7 @@ TEST(LineServer, CloseOnOverflowDropsAClientThatNeverReads) {
   }
   EXPECT_TRUE(ec == asio::error::eof || ec == asio::error::connection_reset) << ec.message();
   EXPECT_LT(total, 2000u * 11000u);
+  EXPECT_TRUE(srv.overflow_reported) << "the session is told why (slcan-canopen.md §11.2 trace)";
 }
 
 TEST(LineServer, SocketOptionsOfRefgoSection13) {

@@ -176,6 +176,33 @@ TEST(Motion, BackAndForthOscillatesWithDwellUntilSm) {
   EXPECT_EQ(d.ts(), "1");
 }
 
+// §7.7 step 1: the base is the target of the last accepted set-point "even if that move was
+// interrupted", not where the drive stopped.
+TEST(Motion, BackAndForthAfterAnInterruptedMoveStartsFromTheLastAcceptedTarget) {
+  Drive d;
+  d.run("SP720");
+  d.run("G720000");
+  d.step(200);
+  ASSERT_EQ(d.ts(), "2");
+  EXPECT_EQ(d.run("SM"), "SM\r\n>");
+  d.step_until([&] { return d.ts() == "1"; }, 5000);
+  const auto stopped_at = d.tp();
+  ASSERT_LT(stopped_at, 700000);
+  EXPECT_EQ(d.run("PWC"), "PWC\r\n>");
+  ASSERT_EQ(d.sw() & 0x6F, 0x27);
+  EXPECT_EQ(d.run("RW100"), "RW100\r\n>");
+  EXPECT_EQ(d.run("RR"), "RR\r\n>");
+  ASSERT_TRUE(d.in.programs().back_and_forth_active());
+  EXPECT_EQ(d.get(0x607A), 720100);  // base + RWAY, base = 720000
+  d.step(1);
+  EXPECT_LE(d.step_until([&] { return d.reached(); }, 20000), 20000U);
+  EXPECT_EQ(d.tp(), 720100);
+  EXPECT_LE(d.step_until([&] { return d.get(0x607A) == 720000; }, 1000), 1000U);  // and back to the base
+  d.step(1);
+  EXPECT_LE(d.step_until([&] { return d.reached(); }, 5000), 5000U);
+  EXPECT_EQ(d.tp(), 720000);
+}
+
 TEST(Motion, BackAndForthStopsOnAnyMotionCommandOrWrite) {
   Drive d;
   d.run("G0");

@@ -167,5 +167,54 @@ TEST_F(SessionTest, GarbageNeverDesynchronises) {
   }
 }
 
+// The taps of refgo.md §13: every complete line reaches the observer with its raw bytes; with a
+// reply sink every reply unit (the ">" of an over-long line too) goes there, one call per reply,
+// in order, and nothing is left in the output queue.
+TEST_F(SessionTest, ObserverAndReplySinkSeeEveryLineAndReply) {
+  Session s(in_);
+  std::vector<line::Line> lines;
+  std::vector<std::string> replies;
+  Session::Observer o;
+  o.received = [&](const line::Line& l) { lines.push_back(l); };
+  s.set_observer(std::move(o));
+  s.set_reply_sink([&](std::string r) { replies.push_back(std::move(r)); });
+  s.receive("TP\r\nTS\n" + std::string(300, 'A') + "\r\r");
+  EXPECT_EQ(s.take_output(), "");
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_EQ(lines[0].raw, "TP\r");
+  EXPECT_EQ(lines[1].raw, "TS\n");
+  EXPECT_TRUE(lines[2].overlong);
+  EXPECT_EQ(lines[3].raw, "\r");
+  ASSERT_EQ(replies.size(), 4u);
+  EXPECT_EQ(replies[0], "TP\r\n-7200\r\n>");
+  EXPECT_EQ(replies[1].substr(0, 4), "TS\r\n");
+  EXPECT_EQ(replies[2], ">");
+  EXPECT_EQ(replies[3], ">");
+}
+
+// Lines handed to an attached script are reported, and so are those dropped because 64 wait
+// (refgo.md §5.4: "toScript", "discarded" in the trace).
+TEST_F(SessionTest, ObserverSeesLinesForTheScriptAndTheDiscardedOnes) {
+  Session s(in_);
+  std::vector<std::pair<std::string, bool>> forwarded;
+  Session::Observer o;
+  o.to_script = [&](std::string_view text, bool discarded) { forwarded.emplace_back(std::string(text), discarded); };
+  s.set_observer(std::move(o));
+  in_.attachment().open(AttachMode::script_only);
+  std::string input;
+  for (std::size_t i = 0; i < k_max_script_lines + 1; ++i) {
+    input += 'x';
+    input += std::to_string(i);
+    input += '\r';
+  }
+  s.receive(input);
+  EXPECT_EQ(s.take_output(), "") << "mode 3: the script answers";
+  ASSERT_EQ(forwarded.size(), k_max_script_lines + 1);
+  EXPECT_EQ(forwarded[0], std::make_pair(std::string("x0"), false));
+  EXPECT_FALSE(forwarded[k_max_script_lines - 1].second);
+  EXPECT_TRUE(forwarded[k_max_script_lines].second) << "the 65th line is dropped";
+  in_.attachment().close();
+}
+
 }  // namespace
 }  // namespace mcemu::refgo

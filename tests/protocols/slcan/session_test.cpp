@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <memory>
 
@@ -221,13 +222,59 @@ TEST(Session, TraceReportsLinesRepliesAndReasons) {
   s.receive("t63G0\rL\r" + std::string(70, 'x') + "\r");
   ASSERT_EQ(trace.size(), 9u);
   EXPECT_EQ(trace[0].dir, TraceEvent::Dir::rx);
-  EXPECT_EQ(trace[0].text, "t63G0");
+  EXPECT_EQ(trace[0].text, "t63G0\r") << "raw, with its line end (slcan-canopen.md §11.2)";
   EXPECT_EQ(trace[1].dir, TraceEvent::Dir::event);
   EXPECT_EQ(trace[1].text, "BEL: not a hex digit");
   EXPECT_EQ(trace[2].text, "\a");
   EXPECT_EQ(trace[4].text, "state LISTEN");
   EXPECT_TRUE(trace[6].overlong);
   EXPECT_EQ(trace[6].text.size(), 64u);
+}
+
+// slcan.bel (slcan-canopen.md §11.3): the lines asked while the fault says so are answered BEL
+// and have no other effect (a frame is not handed to the node); over-long lines do not ask.
+TEST(Session, BelFaultAnswersTheNextLinesWithBel) {
+  ScriptedBus bus;
+  bus.script = k_node;
+  Session& s = bus.add();
+  int left = 2;
+  int asked = 0;
+  s.set_bel_fault([&] {
+    ++asked;
+    if (left == 0) return false;
+    --left;
+    return true;
+  });
+  std::vector<TraceEvent> trace;
+  s.set_trace([&](const TraceEvent& e) { trace.push_back(e); });
+  s.receive(std::string(70, 'x') + "\r");
+  EXPECT_EQ(s.take_output(), "\a");
+  EXPECT_EQ(asked, 0) << "an over-long line is BEL anyway";
+  s.receive("V\rt63284041600000000000\rV\r");
+  EXPECT_EQ(s.take_output(), "\a\aV1010\r");
+  EXPECT_TRUE(bus.received.empty()) << "the frame answered BEL never reached the node";
+  EXPECT_TRUE(std::any_of(trace.begin(), trace.end(),
+                          [](const TraceEvent& e) { return e.text == "BEL: injected (slcan.bel)"; }));
+  s.receive("t63284041600000000000\r");
+  EXPECT_EQ(s.take_output(), "z\rt5B284B41600040000000\r");
+}
+
+// slcan.rawTx: the text goes out as it is, in every session state, and is traced as output.
+TEST(Session, SendRawInAnyState) {
+  ScriptedBus bus;
+  Session& s = bus.add();
+  int wakes = 0;
+  s.set_wake([&] { ++wakes; });
+  s.receive("C\r");
+  EXPECT_EQ(s.take_output(), "\r");
+  std::vector<TraceEvent> trace;
+  s.set_trace([&](const TraceEvent& e) { trace.push_back(e); });
+  s.send_raw("t12\r");
+  EXPECT_EQ(s.take_output(), "t12\r");
+  EXPECT_EQ(wakes, 1);
+  ASSERT_EQ(trace.size(), 1u);
+  EXPECT_EQ(trace[0].dir, TraceEvent::Dir::tx);
+  EXPECT_EQ(trace[0].text, "t12\r");
 }
 
 }  // namespace

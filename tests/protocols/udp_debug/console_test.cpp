@@ -197,3 +197,22 @@ TEST(Messages, NoteAndUpload) {
 
 }  // namespace
 }  // namespace mcemu::udp_debug
+
+namespace mcemu::udp_debug {
+namespace {
+
+TEST(Console, ListenersKeepTheTimeOfTheirLatestRegistration) {  // udp-debug.md §6
+  Console c;
+  c.on_datagram(k_a, "\r", Stamp{100, "2026-01-15T10:15:02.100Z"});
+  c.on_datagram(k_b, "\r", Stamp{150, "2026-01-15T10:15:02.150Z"});
+  c.on_datagram(k_a, "\n", Stamp{900, "2026-01-15T10:15:02.900Z"});
+  c.on_datagram(k_b, "hello", Stamp{950, "x"});  // ignored: no new registration time
+  ASSERT_EQ(c.listeners().size(), 2u);
+  EXPECT_EQ(c.listeners()[0].peer, k_a);
+  EXPECT_EQ(c.listeners()[0].registered.drive_ms, 900u);
+  EXPECT_EQ(c.listeners()[0].registered.wall, "2026-01-15T10:15:02.900Z");
+  EXPECT_EQ(c.listeners()[1].registered.drive_ms, 150u);
+}
+
+}  // namespace
+}  // namespace mcemu::udp_debug
