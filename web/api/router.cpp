@@ -1,11 +1,11 @@
 #include "web/api/router.hpp"
 
-#include <array>
-#include <cstdio>
-#include <nlohmann/json.hpp>
+#include <algorithm>
+#include <exception>
 
-#include "drive/od/hex.hpp"
-#include "web/api/faults.hpp"
+#include "protocols/refgo/interpreter.hpp"
+#include "web/api/http_util.hpp"
+#include "web/api/static_files.hpp"
 
 namespace mcemu::web::api {
 
@@ -13,232 +13,475 @@ using nlohmann::json;
 
 namespace {
 
-std::string path_of(const std::string& target) {
-  const auto q = target.find('?');
-  return q == std::string::npos ? target : target.substr(0, q);
-}
+constexpr std::string_view k_value_body = R"({"type":"object","required":["value"],
+  "properties":{"value":{"oneOf":[{"type":"integer"},{"type":"string"}]}}})";
+constexpr std::string_view k_read_body = R"({"type":"object","required":["objects"],
+  "properties":{"objects":{"type":"array","items":{"type":"array","minItems":2,"maxItems":2}}}})";
+constexpr std::string_view k_refgo_body = R"({"type":"object","required":["line"],
+  "properties":{"line":{"type":"string","description":"one RefGo line without CR/LF"}}})";
+constexpr std::string_view k_inputs_body = R"({"type":"object","properties":{
+  "mask":{"type":"integer","description":"wire levels IN1…IN10 as bits 16…25"},
+  "set":{"type":"array","items":{"type":"integer","minimum":1,"maximum":10}},
+  "clear":{"type":"array","items":{"type":"integer","minimum":1,"maximum":10}}}})";
+constexpr std::string_view k_empty_body = R"({"type":"object"})";
+constexpr std::string_view k_settings_body = R"({"type":"object","additionalProperties":false,"properties":{
+  "udpEmulatorNotes":{"type":"boolean"},"scriptStrict":{"type":"boolean"},
+  "scriptMemoryMiB":{"type":"integer","minimum":0},"traceScriptCalls":{"type":"boolean"}}})";
+constexpr std::string_view k_advance_body = R"({"type":"object","required":["ms"],
+  "properties":{"ms":{"type":"integer","minimum":1,"maximum":3600000}}})";
+constexpr std::string_view k_fault_body = R"({"type":"object","required":["kind"],"properties":{
+  "kind":{"type":"string","enum":["drive.inject","drive.emcy","drive.supply","drive.ambient","drive.load",
+    "drive.obstacle","refgo.noReply","refgo.delay","refgo.disconnect","udp.drop","http.error","script.kill",
+    "slcan.dropTx","slcan.delayTx","slcan.sdoAbort","slcan.sdoNoReply","slcan.heartbeatStop","slcan.rawTx",
+    "slcan.bel","slcan.disconnect"]},
+  "count":{"type":"integer","minimum":1},"durationMs":{"type":"integer","minimum":1}}})";
+constexpr std::string_view k_autostart_body = R"({"type":"object","required":["on"],
+  "properties":{"on":{"type":"boolean"}}})";
 
-std::vector<std::string> split_path(const std::string& path) {
-  std::vector<std::string> parts;
-  std::size_t pos = 1;
-  while (pos <= path.size()) {
-    const auto slash = path.find('/', pos);
-    const auto end = slash == std::string::npos ? path.size() : slash;
-    parts.push_back(path.substr(pos, end - pos));
-    pos = end + 1;
-  }
-  return parts;
-}
+const Answer k_400{400, "malformed request (syntax)"};
+const Answer k_404{404, "object or sub-index does not exist"};
+const Answer k_409{409, "refused (SDO abort code or state)"};
+const Answer k_415{415, "POST without Content-Type: application/json"};
+const Answer k_503{503, "not available in this version or this configuration"};
+const Answer k_201{201, "created"};
+const Answer k_503_engine{503, "no script engine in this build"};
 
-Response json_response(int status, const json& body) {
-  Response r;
-  r.status = status;
-  r.body = body.dump();
-  r.headers.emplace_back("Cache-Control", "no-store");
-  return r;
-}
-
-Response not_found() {
-  Response r;
-  r.status = 404;
-  r.content_type = "text/html; charset=utf-8";
-  r.body =
-      "<!DOCTYPE html><html><head><title>404 Not Found</title></head><body><h1>404 Not Found</h1>"
-      "<p>No such page. Go to <a href=\"/index.html\">the start page</a>.</p></body></html>\n";
-  r.headers.emplace_back("Cache-Control", "no-store");
-  return r;
-}
-
-Response error_json(int status, const std::string& code, const std::string& message) {
-  return json_response(status, json{{"error", {{"code", code}, {"message", message}}}});
-}
-
-Response method_not_allowed(const std::string& allow) {
-  auto r = error_json(405, "method", "method not allowed");
-  r.headers.emplace_back("Allow", allow);
-  return r;
-}
-
-std::string abort_hex(od::AbortCode c) {
-  std::array<char, 16> buf{};
-  std::snprintf(buf.data(), buf.size(), "%08Xh", od::to_u32(c));
-  return buf.data();
-}
-
-// web.md §8: 404 for a missing object/sub-index, 409 for every other refusal.
-Response abort_response(od::AbortCode c) {
-  const int status = (c == od::AbortCode::no_object || c == od::AbortCode::no_sub) ? 404 : 409;
-  return json_response(
-      status,
-      json{{"error", {{"code", "abort"}, {"abortCode", abort_hex(c)}, {"message", std::string(od::description(c))}}}});
-}
-
-json value_json(const od::Value& v) {
-  if (std::holds_alternative<std::int64_t>(v)) return std::get<std::int64_t>(v);
-  return std::get<std::string>(v);
-}
-
-std::string hex_index(std::uint16_t i) {
-  std::array<char, 8> buf{};
-  std::snprintf(buf.data(), buf.size(), "%04Xh", i);
-  return buf.data();
-}
-std::string hex_sub(std::uint8_t s) {
-  std::array<char, 8> buf{};
-  std::snprintf(buf.data(), buf.size(), "%02Xh", s);
-  return buf.data();
-}
-
-json info_json(const Info& i) {
-  return json{{"emulator", "mcemu"},
-              {"version", i.version},
-              {"model", i.model},
-              {"displayName", i.display_name},
-              {"deviceName", i.device_name},
-              {"softwareVersion", i.software_version},
-              {"serial", i.serial},
-              {"ip", i.ip},
-              {"mask", i.mask},
-              {"bind", i.bind},
-              {"ports", {{"refgo", i.refgo_port}, {"slcan", i.slcan_port}, {"http", i.http_port}, {"udp", i.udp_port}}},
-              {"stateDir", i.state_dir},
-              {"scripting", {{"available", false}, {"engine", nullptr}}}};
-}
-
-bool is_json_content(const std::string& content_type) { return content_type.rfind("application/json", 0) == 0; }
+const std::vector<QueryParam> k_trace_query{
+    {"since", "integer", "first sequence number wanted (default 0)"},
+    {"channels", "string", "comma-separated channels: refgo, slcan, udp, http, script, drive, api (default all)"},
+    {"limit", "integer", "at most this many events, 1 … 10000 (default 500)"}};
+const std::vector<QueryParam> k_export_query{
+    {"since", "integer", "first sequence number wanted (default 0)"},
+    {"limit", "integer", "at most this many events are examined, 1 … 10000 (default 10000)"},
+    {"conn", "integer", "only the events of this connection"}};
 
 }  // namespace
 
-std::optional<std::uint32_t> parse_hex_token(std::string_view t, std::uint32_t max) {
-  if (t.size() >= 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) {
-    t.remove_prefix(2);
-  } else if (!t.empty() && (t.back() == 'h' || t.back() == 'H')) {
-    t.remove_suffix(1);
-  }
-  if (t.size() > 8) return std::nullopt;
-  const auto v = od::parse_hex(t, max);
-  if (!v) return std::nullopt;
-  return static_cast<std::uint32_t>(*v);
+const std::vector<Router::Route>& Router::routes() {
+  using M = Method;
+  static const std::vector<Route> rows{
+      {{M::get, "/api/v1/info", "Emulator and drive identity, ports, scripting and clock (web.md §8.1)"},
+       &Router::get_info},
+      {{M::get, "/api/v1/status", "Status snapshot with the footer strings (web.md §8.2)"}, &Router::get_status},
+      {{M::get, "/api/v1/objects", "Every entry of the model's dictionary (web.md §8.3)"}, &Router::get_objects},
+      {{M::get,
+        "/api/v1/objects/{index}/{sub}",
+        "One dictionary entry",
+        {},
+        "",
+        "",
+        "application/json",
+        {k_400, k_404, k_409}},
+       &Router::get_object},
+      {{M::put,
+        "/api/v1/objects/{index}/{sub}",
+        "Write one entry through the OD (origin web)",
+        {},
+        "application/json",
+        k_value_body,
+        "application/json",
+        {k_400, k_404, k_409}},
+       &Router::put_object},
+      {{M::post,
+        "/api/v1/objects/read",
+        "Read several entries in one loop iteration",
+        {},
+        "application/json",
+        k_read_body,
+        "application/json",
+        {k_400, k_415}},
+       &Router::post_objects_read},
+      {{M::post,
+        "/api/v1/refgo",
+        "Execute one RefGo line through the built-in interpreter (web.md §8.4)",
+        {},
+        "application/json",
+        k_refgo_body,
+        "application/json",
+        {k_400, k_415}},
+       &Router::post_refgo},
+      {{M::get, "/api/v1/io", "Effective, physical and virtual inputs and the outputs (web.md §8.5)"}, &Router::get_io},
+      {{M::put,
+        "/api/v1/io/physical-inputs",
+        "Set the wire levels of the inputs (simulation API)",
+        {},
+        "application/json",
+        k_inputs_body,
+        "application/json",
+        {k_400, {409, "an input without a pin on the model"}}},
+       &Router::put_physical_inputs},
+      {{M::get, "/api/v1/trace", "Trace events (web.md §8.6)", k_trace_query, "", "", "application/json", {k_400}},
+       &Router::get_trace},
+      {{M::get,
+        "/api/v1/trace/candump",
+        "CAN frames of the slcan channel as a candump -l log",
+        k_export_query,
+        "",
+        "",
+        "text/plain",
+        {k_400}},
+       &Router::get_trace_candump},
+      {{M::get,
+        "/api/v1/trace/text",
+        "Trace events as timestamped text (default channels refgo,udp)",
+        {{"since", "integer", "first sequence number wanted (default 0)"},
+         {"channels", "string", "comma-separated channels (default refgo,udp)"},
+         {"limit", "integer", "at most this many events, 1 … 10000 (default 10000)"},
+         {"conn", "integer", "only the events of this connection"}},
+        "",
+        "",
+        "text/plain",
+        {k_400}},
+       &Router::get_trace_text},
+      {{M::get,
+        "/api/v1/scope",
+        "Scope samples every 5 ms of drive time (web.md §8.7)",
+        {{"sinceMs", "integer", "drive time of the first sample wanted (default: the whole 60 s ring)"}},
+        "",
+        "",
+        "application/json",
+        {k_400}},
+       &Router::get_scope},
+      {{M::get,
+        "/api/v1/led",
+        "LED state and Morse schedule (morse-led.md §6.2)",
+        {{"fromMs", "integer", "with toMs: also the exact green edges in [fromMs, toMs] (≤ 600 000 ms)"},
+         {"toMs", "integer", "end of the greenEdges window"}},
+        "",
+        "",
+        "application/json",
+        {k_400, k_503}},
+       &Router::get_led},
+      {{M::get,
+        "/api/v1/udp",
+        "UDP debug console: listeners, backlog, counters, last messages (udp-debug.md §6)",
+        {},
+        "",
+        "",
+        "application/json",
+        {k_503}},
+       &Router::get_udp},
+      {{M::get, "/api/v1/script", "The loaded script (web.md §8.7)", {}, "", "", "application/json", {k_503_engine}},
+       &Router::get_script},
+      {{M::put,
+        "/api/v1/script",
+        "Upload a script (raw body)",
+        {},
+        "text/x-python",
+        "",
+        "application/json",
+        {k_400, {413, "script larger than 65536 bytes"}, k_503_engine}},
+       &Router::put_script},
+      {{M::post,
+        "/api/v1/script/start",
+        "Start or restart the script (codeAct 3)",
+        {},
+        "application/json",
+        k_empty_body,
+        "application/json",
+        {k_415, {503, "no script engine, or python3 unavailable (the start still sends its UDP lines)"}}},
+       &Router::post_script_start},
+      {{M::post,
+        "/api/v1/script/stop",
+        "Stop the script (codeAct 4)",
+        {},
+        "application/json",
+        k_empty_body,
+        "application/json",
+        {k_415, k_503_engine}},
+       &Router::post_script_stop},
+      {{M::post,
+        "/api/v1/script/pause",
+        "Pause the script (codeAct 1)",
+        {},
+        "application/json",
+        k_empty_body,
+        "application/json",
+        {k_415, k_503_engine}},
+       &Router::post_script_pause},
+      {{M::post,
+        "/api/v1/script/resume",
+        "Resume the script (codeAct 2)",
+        {},
+        "application/json",
+        k_empty_body,
+        "application/json",
+        {k_415, k_503_engine}},
+       &Router::post_script_resume},
+      {{M::put,
+        "/api/v1/script/autostart",
+        "Autostart on/off (3500h.04)",
+        {},
+        "application/json",
+        k_autostart_body,
+        "application/json",
+        {k_400, k_503_engine}},
+       &Router::put_script_autostart},
+      {{M::post,
+        "/api/v1/store",
+        "Store Permanently: 1010h.01 := \"save\" (web.md §7.1)",
+        {},
+        "application/json",
+        k_empty_body,
+        "application/json",
+        {k_409, k_415}},
+       &Router::post_store},
+      {{M::post,
+        "/api/v1/factory-reset",
+        "Factory Reset: 1011h.01 := \"load\" (web.md §7.2)",
+        {},
+        "application/json",
+        k_empty_body,
+        "application/json",
+        {k_409, k_415}},
+       &Router::post_factory_reset},
+      {{M::post,
+        "/api/v1/power-cycle",
+        "Power loss and power-up in the running process (web.md §8.8)",
+        {},
+        "application/json",
+        k_empty_body,
+        "application/json",
+        {k_415, k_503}},
+       &Router::post_power_cycle},
+      {{M::get, "/api/v1/settings", "Runtime settings (web.md §8.9)"}, &Router::get_settings},
+      {{M::put,
+        "/api/v1/settings",
+        "Change runtime settings (any subset)",
+        {},
+        "application/json",
+        k_settings_body,
+        "application/json",
+        {k_400}},
+       &Router::put_settings},
+      {{M::get, "/api/v1/clock", "Clock mode, scale and drive time (web.md §8.10)"}, &Router::get_clock},
+      {{M::post,
+        "/api/v1/clock/advance",
+        "Run n steps of 1 ms (--clock manual only)",
+        {},
+        "application/json",
+        k_advance_body,
+        "application/json",
+        {k_400, {409, "clock not in manual mode"}, k_415, k_503}},
+       &Router::post_clock_advance},
+      {{M::get, "/api/v1/faults", "Active fault injections (web.md §9)"}, &Router::get_faults},
+      {{M::post,
+        "/api/v1/faults",
+        "Create a fault injection",
+        {},
+        "application/json",
+        k_fault_body,
+        "application/json",
+        {k_201, k_400, {409, "refused in the current state (script.kill: no script running)"}, k_415, k_503}},
+       &Router::post_faults},
+      {{M::del, "/api/v1/faults", "Remove every fault injection"}, &Router::delete_faults},
+      {{M::del,
+        "/api/v1/faults/{id}",
+        "Remove one fault injection",
+        {},
+        "",
+        "",
+        "application/json",
+        {{404, "no active injection with that id"}}},
+       &Router::delete_fault},
+      {{M::get, "/api/v1/eds", "CANopen EDS of the model (as mcemu --dump-eds)", {}, "", "", "text/plain", {k_503}},
+       &Router::get_eds},
+      {{M::get, "/api/v1/openapi.json", "This document"}, &Router::get_openapi},
+      {{M::get,
+        "/api/v1/ws",
+        "WebSocket (web.md §10); a request that is not an upgrade gets 426",
+        {},
+        "",
+        "",
+        "application/json",
+        {{426, "not a WebSocket upgrade"}}},
+       &Router::get_ws},
+  };
+  return rows;
 }
 
-Router::Router(od::ObjectDictionary& od, std::function<Info()> info,
-               std::function<std::optional<od::Value>(std::uint16_t, std::uint8_t)> factory, FaultInjections* faults)
-    : od_(od), info_(std::move(info)), factory_(std::move(factory)), faults_(faults) {}
+std::vector<RouteDoc> Router::route_docs() {
+  std::vector<RouteDoc> out;
+  for (const auto& r : routes()) out.push_back(r.doc);
+  return out;
+}
+
+json Router::openapi() const {
+  const auto docs = route_docs();
+  return openapi_document(docs, services_.info ? services_.info().version : std::string());
+}
+
+Router::Router(Drive drive, Services services)
+    : drive_(drive),
+      services_(std::move(services)),
+      settings_(services_.settings),
+      faults_(drive.od, drive.core),
+      self_(std::make_shared<Router*>(this)) {
+  faults_.set_journal([this](const std::string& trace_text, const std::string& note_text) {
+    if (services_.trace) services_.trace->record(trace::Channel::api, trace::Dir::event, trace_text);
+    if (settings_.udp_emulator_notes && services_.note) services_.note(note_text);
+  });
+  if (services_.script) {
+    faults_.set_script_kill([this] { return services_.script->view().state != "OFF"; },
+                            [this] { services_.script->kill(); });
+  }
+}
+
+Router::~Router() { *self_ = nullptr; }
+
+void Router::on_step() {
+  faults_.on_step();
+  scope_.on_step(drive_.core.time_ms(), drive_.od);
+}
+
+void Router::journal_text(std::uint64_t conn, const std::string& peer, const std::string& text) {
+  if (services_.trace) services_.trace->record(trace::Channel::api, trace::Dir::event, text, conn, peer);
+  if (settings_.udp_emulator_notes && services_.note) services_.note("api " + text);
+}
+
+void Router::journal(const Request& request, const std::string& text) {
+  journal_text(request.conn, request.peer, text);
+}
 
 void Router::handle(const Request& request, const Respond& respond) {
-  const std::string path = path_of(request.target);
-  const auto parts = split_path(path);
-  const std::string& m = request.method;
-  const bool get = m == "GET" || m == "HEAD";
-  // web.md §1.3: state-changing POSTs must carry JSON (forces a CORS preflight).
-  if (path.rfind("/api/", 0) == 0 && m == "POST" && !is_json_content(request.content_type)) {
+  // A handler that throws (it must not) still gets exactly one answer: 500, once.
+  auto answered = std::make_shared<bool>(false);
+  const Respond once = [answered, respond](Response r) {
+    if (*answered) return;
+    *answered = true;
+    respond(std::move(r));
+  };
+  try {
+    dispatch(request, once);
+  } catch (const std::exception& e) {
+    once(error_json(500, "internal", e.what()));
+  }
+}
+
+PageContext Router::page_context() {
+  PageContext ctx;
+  ctx.info = info_json();
+  ctx.status = json::parse(status_text());
+  const auto& plant = drive_.core.plant_params();
+  ctx.model.linear = plant.kind == model::Kind::linear;
+  ctx.model.input_pins = drive_.preset.input_pins;
+  ctx.model.output_pins = drive_.preset.output_pins;
+  ctx.model.temperature_available = plant.temperature_available;
+  ctx.model.supply_nominal_v = plant.supply_nominal_v;
+  ctx.model.supply_uv_v = plant.supply_uv_v;
+  ctx.model.supply_ov_v = plant.supply_ov_v;
+  ctx.model.rotary_accel_unit_num = drive_.preset.plant.rotary_accel_unit_num;
+  ctx.model.rotary_accel_unit_den = drive_.preset.plant.rotary_accel_unit_den;
+  ctx.object = [this](std::uint16_t index, std::uint8_t sub) -> std::optional<json> {
+    const auto v = drive_.od.read(index, sub);
+    if (!v) return std::nullopt;
+    return value_json(*v);
+  };
+  if (services_.script) ctx.script = services_.script->view();
+  return ctx;
+}
+
+void Router::page(const Request& request, const Respond& answer) {
+  // The template is filled when the answer is sent (a hook may answer later, after its action).
+  const Respond respond = [self = self_, answer](Response r) {
+    if (*self && r.content_type.rfind("text/html", 0) == 0 && r.body.find("{{") != std::string::npos) {
+      r.body = render_page(r.body, (*self)->page_context(), embedded_partials());
+    }
+    answer(std::move(r));
+  };
+  const std::string path(target_path(request.target));
+  if (const auto status = faults_.transport().take_http_error(path)) {
+    Response r;
+    r.status = *status;
+    r.content_type = "text/html; charset=utf-8";
+    r.body = "<!DOCTYPE html><html><head><title>" + std::to_string(*status) + "</title></head><body><h1>" +
+             std::to_string(*status) + "</h1><p>Injected by mcemu fault injection (http.error).</p></body></html>\n";
+    r.headers.emplace_back("Cache-Control", "no-store");
+    return respond(std::move(r));
+  }
+  if (path == "/program.html") return program_page(request, respond);  // web.md §6 (handlers_script.cpp)
+  if (services_.pages && services_.pages(request, respond)) return;
+  if (auto asset = serve_asset(request)) return respond(std::move(*asset));  // web/ui/, embedded
+  respond(not_found_page());
+}
+
+void Router::dispatch(const Request& request, const Respond& respond) {
+  const std::string path(target_path(request.target));
+  if (path.rfind("/api/", 0) != 0) return page(request, respond);
+
+  const auto& rows = routes();
+  std::size_t best = SIZE_MAX;
+  for (const auto& r : rows) {
+    if (match_path(r.doc.path, path)) best = std::min(best, parameter_count(r.doc.path));
+  }
+  if (best == SIZE_MAX) return respond(not_found_page());
+  const auto method = method_of(request.method);
+  const Route* route = nullptr;
+  std::string allow;
+  for (const auto& r : rows) {
+    if (parameter_count(r.doc.path) != best || !match_path(r.doc.path, path)) continue;
+    if (!allow.empty()) allow += ", ";
+    allow += to_string(r.doc.method);
+    if (r.doc.method == Method::get) allow += ", HEAD";
+    if (method && r.doc.method == *method) route = &r;
+  }
+  if (!route) {
+    auto r = error_json(405, "method", "method " + request.method + " not allowed on " + path);
+    r.headers.emplace_back("Allow", allow);
+    return respond(std::move(r));
+  }
+  if (request.method == "POST" && !is_json_media_type(request.content_type)) {
     return respond(error_json(415, "content-type", "POST requests to /api/ need Content-Type: application/json"));
   }
-  if (path == "/api/v1/info") {
-    if (!get) return respond(method_not_allowed("GET, HEAD"));
-    return respond(json_response(200, info_json(info_())));
-  }
-  const auto entry_json = [&](const od::EntryInfo& e) {
-    json j{{"index", hex_index(e.index)},
-           {"sub", hex_sub(e.sub)},
-           {"name", e.name},
-           {"type", od::to_string(e.type)},
-           {"access", od::to_string(e.access)}};
-    auto v = od_.read(e.index, e.sub);
-    j["value"] = v ? value_json(*v) : json(nullptr);
-    auto f = factory_ ? factory_(e.index, e.sub) : std::nullopt;
-    j["factory"] = f ? value_json(*f) : value_json(e.factory);
-    return j;
-  };
-  if (path == "/api/v1/objects") {
-    if (!get) return respond(method_not_allowed("GET, HEAD"));
-    json all = json::array();
-    od_.for_each([&](const od::EntryInfo& e, const od::Value&) { all.push_back(entry_json(e)); });
-    return respond(json_response(200, all));
-  }
-  if (path == "/api/v1/objects/read") {
-    if (m != "POST") return respond(method_not_allowed("POST"));
-    const json body = json::parse(request.body, nullptr, false);
-    if (body.is_discarded() || !body.is_object() || !body.contains("objects") || !body["objects"].is_array()) {
-      return respond(error_json(400, "syntax", "expected {\"objects\": [[index, sub], …]}"));
+  auto query = parse_query(request.target);
+  if (!query) return respond(error_json(400, "syntax", "malformed query string"));
+  for (const auto& param : *query) {
+    const std::string& key = param.first;  // not a structured binding: clang 14 cannot capture those
+    const auto& allowed = route->doc.query;
+    if (std::none_of(allowed.begin(), allowed.end(), [&](const QueryParam& q) { return q.name == key; })) {
+      return respond(error_json(400, "syntax", "unknown query parameter \"" + key + "\""));
     }
-    json values = json::array();
-    for (const auto& item : body["objects"]) {
-      std::optional<std::uint32_t> index;
-      std::optional<std::uint32_t> sub;
-      if (item.is_array() && item.size() == 2) {
-        const auto token = [](const json& t, std::uint32_t max) -> std::optional<std::uint32_t> {
-          if (t.is_string()) return parse_hex_token(t.get<std::string>(), max);
-          if (t.is_number_unsigned() && t.get<std::uint64_t>() <= max)
-            return static_cast<std::uint32_t>(t.get<std::uint64_t>());
-          return std::nullopt;
-        };
-        index = token(item[0], 0xFFFF);
-        sub = token(item[1], 0xFF);
-      }
-      if (!index || !sub) return respond(error_json(400, "syntax", "bad object reference " + item.dump()));
-      auto v = od_.read(static_cast<std::uint16_t>(*index), static_cast<std::uint8_t>(*sub));
-      values.push_back(v ? value_json(*v) : json{{"abortCode", abort_hex(v.error())}});
-    }
-    return respond(json_response(200, json{{"values", values}}));
   }
-  if (parts.size() == 5 && parts[0] == "api" && parts[1] == "v1" && parts[2] == "objects") {
-    const auto index = parse_hex_token(parts[3], 0xFFFF);
-    const auto sub = parse_hex_token(parts[4], 0xFF);
-    if (!index || !sub) return respond(error_json(400, "syntax", "object index and sub-index are hex numbers"));
-    const auto i = static_cast<std::uint16_t>(*index);
-    const auto s = static_cast<std::uint8_t>(*sub);
-    if (get) {
-      auto v = od_.read(i, s);
-      if (!v) return respond(abort_response(v.error()));
-      return respond(json_response(200, entry_json(*od_.info(i, s))));
-    }
-    if (m != "PUT") return respond(method_not_allowed("GET, HEAD, PUT"));
-    const json body = json::parse(request.body, nullptr, false);
-    if (body.is_discarded() || !body.is_object() || !body.contains("value") ||
-        !(body["value"].is_number_integer() || body["value"].is_string())) {
-      return respond(error_json(400, "syntax", "expected {\"value\": <integer or string>}"));
-    }
-    const od::Value value = body["value"].is_string() ? od::Value{body["value"].get<std::string>()}
-                                                      : od::Value{body["value"].get<std::int64_t>()};
-    auto finish = [this, i, s, respond](od::AbortCode c) {
-      if (c != od::AbortCode::none) return respond(abort_response(c));
-      auto v = od_.read(i, s);
-      respond(json_response(200, json{{"ok", true}, {"value", v ? value_json(*v) : json(nullptr)}}));
-    };
-    const auto c = od_.write(i, s, value, od::Origin::web, finish);
-    if (c != od::AbortCode::pending) finish(c);
-    return;
+  const Ctx ctx{request, *match_path(route->doc.path, path), std::move(*query), respond};
+  (this->*route->handler)(ctx);
+}
+
+ClockInfo Router::clock_info() const { return services_.clock ? services_.clock() : ClockInfo{}; }
+
+StatusInputs Router::status_inputs() const {
+  StatusInputs in{drive_.od};
+  in.time_ms = drive_.core.time_ms();
+  in.state = drive_.core.state();
+  in.velocity_inc_s = drive_.core.actual_velocity_inc_s();
+  in.temperature_available = drive_.core.plant_params().temperature_available;
+  if (services_.script) {
+    in.python = services_.script->status();
+    in.refgo.attach_mode = services_.script->refgo_attach_mode();
   }
-  if (faults_ && path == "/api/v1/faults") {
-    if (m == "GET" || m == "HEAD") return respond(faults_->list());
-    if (m == "POST") return respond(faults_->create(request.body));
-    if (m == "DELETE") return respond(faults_->remove_all());
-    return respond(method_not_allowed("GET, HEAD, POST, DELETE"));
+  in.refgo.clients = services_.refgo_clients ? services_.refgo_clients() : 0;
+  const auto& vars = drive_.refgo.variables();
+  in.refgo.repeat_way = vars.repeat_way;
+  in.refgo.wait_time_ms = vars.wait_time_ms;
+  in.refgo.back_and_forth = drive_.refgo.programs().back_and_forth_active();
+  if (const auto due = drive_.refgo.programs().jog_stop_due_ms()) {
+    in.refgo.jog_timer_ms = *due > in.time_ms ? *due - in.time_ms : 0;
   }
-  if (faults_ && parts.size() == 4 && parts[0] == "api" && parts[1] == "v1" && parts[2] == "faults") {
-    if (m != "DELETE") return respond(method_not_allowed("DELETE"));
-    return respond(faults_->remove(parts[3]));
-  }
-  if (path == "/api/v1/store" || path == "/api/v1/factory-reset") {
-    if (m != "POST") return respond(method_not_allowed("POST"));
-    const bool store = path == "/api/v1/store";
-    auto finish = [respond](od::AbortCode c) {
-      if (c != od::AbortCode::none) return respond(abort_response(c));
-      respond(json_response(200, json{{"ok", true}}));
-    };
-    const auto c = od_.write(store ? 0x1010 : 0x1011, 1, od::Value{std::int64_t{store ? 0x65766173 : 0x64616F6C}},
-                             od::Origin::web, finish);
-    if (c != od::AbortCode::pending) finish(c);
-    return;
-  }
-  respond(not_found());
+  in.udp_listeners = services_.udp_listeners ? services_.udp_listeners() : 0;
+  if (services_.led_state) in.led = services_.led_state();
+  return in;
+}
+
+std::string Router::status_text() { return snapshots_.build(status_inputs()); }
+
+std::string Router::status_message() {
+  std::string text = status_text();  // "{…}": an object, never empty
+  return R"({"type":"status",)" + text.substr(1);
 }
 
 Response error_page(int status, const std::string& reason) {
   Response r;
   r.status = status;
-  r.body = json{{"error", {{"code", "http"}, {"message", reason}}}}.dump();
+  r.body = dump_json(json{{"error", {{"code", "http"}, {"message", reason}}}});
   r.headers.emplace_back("Cache-Control", "no-store");
   return r;
 }

@@ -1,79 +1,168 @@
-// The HTTP request → response mapping of the web server, without any socket (web.md §1, §7, §8).
-// PURE: the Beast adapter in web/net converts to and from these plain values.
+// The HTTP request → response mapping of the web server without any socket (web.md §1.3, §1.4,
+// §7, §8, §9). PURE: the Beast adapter in web/net converts to and from these plain values.
 //
-// Served today: GET/HEAD /api/v1/info (§8.1); the object API of §8.3 (GET /api/v1/objects,
-// GET/PUT /api/v1/objects/{index}/{sub}, POST /api/v1/objects/read); POST /api/v1/store and
-// /api/v1/factory-reset (§7); the drive kinds of the fault-injection API (§9, web/api/faults.hpp). The pages of the web
-// UI, the rest of the JSON API and the WebSocket belong to the web milestone; their paths answer 404 until then.
-// Responses may complete later (a Store answers when the file is durable): handle() calls
-// `respond` exactly once, possibly after it has returned, always on the event-loop thread.
+// Dispatch is by the route table (routes()): one row per method and path pattern, each with its
+// handler and its OpenAPI description; GET /api/v1/openapi.json is generated from the same rows.
+// A path no row matches gets the 404 page, a method no row of the path has gets 405 with Allow,
+// a POST to /api/ without application/json gets 415 (§1.3), a query parameter the row does not
+// name gets 400. Paths outside /api/ go to /program.html's handler (the real drive's script upload
+// and control endpoint, web.md §6), Services::pages (after the http.error injection), then the
+// embedded files; every HTML answer on that path is rendered as a page template (pages.hpp) when it
+// is sent, so that a page answered after an action shows the state after it.
+// No CORS header is ever sent.
+//
+// Contract: single-threaded (event loop). handle() calls `respond` exactly once, possibly after it
+// has returned (a Store answers when the file is durable, a clock advance after its last step).
+// on_step() must run after every drive step (fault expiry, scope sampling). The dictionary, core
+// and interpreter of Drive outlive the router.
 #pragma once
 
 #include <cstdint>
-#include <functional>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <span>
 #include <string>
-#include <utility>
 #include <vector>
 
+#include "drive/drive_core.hpp"
 #include "drive/od/dictionary.hpp"
+#include "web/api/faults.hpp"
+#include "web/api/http_types.hpp"
+#include "web/api/pages.hpp"
+#include "web/api/routes.hpp"
+#include "web/api/runtime_settings.hpp"
+#include "web/api/scope.hpp"
+#include "web/api/services.hpp"
+#include "web/api/status.hpp"
+
+namespace mcemu::refgo {
+class Interpreter;
+}
 
 namespace mcemu::web::api {
 
-struct Request {
-  std::string method;  // "GET", "HEAD", "POST", …
-  std::string target;  // "/api/v1/info?x=1"
-  std::string content_type;
-  std::string body;
+// The pure drive the API acts on.
+struct Drive {
+  od::ObjectDictionary& od;
+  core::DriveCore& core;
+  refgo::Interpreter& refgo;
+  const model::ModelPreset& preset;  // input pins (web.md §8.5)
 };
-
-struct Response {
-  int status = 200;
-  std::string content_type = "application/json";
-  std::string body;
-  std::vector<std::pair<std::string, std::string>> headers;  // extra headers (Allow, Cache-Control, …)
-};
-
-using Respond = std::function<void(Response)>;
-
-// What /api/v1/info reports (web.md §8.1).
-struct Info {
-  std::string version;
-  std::string model;
-  std::string display_name;
-  std::string device_name;
-  std::string software_version;
-  std::uint32_t serial = 0;
-  std::string ip;
-  std::string mask;
-  std::string bind;
-  std::uint16_t refgo_port = 0;
-  std::uint16_t slcan_port = 0;
-  std::uint16_t http_port = 0;
-  std::uint16_t udp_port = 0;
-  std::string state_dir;
-};
-
-class FaultInjections;
 
 class Router {
  public:
-  // `factory` reads the factory value of an entry (the persistence factory image); `faults` serves
-  // /api/v1/faults (web.md §9) when given.
-  Router(od::ObjectDictionary& od, std::function<Info()> info,
-         std::function<std::optional<od::Value>(std::uint16_t, std::uint8_t)> factory,
-         FaultInjections* faults = nullptr);
+  Router(Drive drive, Services services);
+  ~Router();
+  Router(const Router&) = delete;
+  Router& operator=(const Router&) = delete;
+
   void handle(const Request& request, const Respond& respond);
+  // After every drive step: expires fault injections, samples the scope.
+  void on_step();
+
+  // A fresh status snapshot (web.md §8.2), seq + 1; the WebSocket hub calls this once per period.
+  std::string status_text();
+  // The same with "type":"status" first: the WebSocket status message (web.md §10.3).
+  std::string status_message();
+  // GET /api/v1/info's object (web.md §8.1): the WebSocket hello carries it.
+  nlohmann::json info_json() const;
+  std::string info_text() const;
+  // The inputs of status_text() as they are now (for callers that build the snapshot themselves).
+  StatusInputs status_inputs() const;
+
+  Scope& scope() { return scope_; }
+  FaultInjections& faults() { return faults_; }
+  TransportFaults& transport_faults() { return faults_.transport(); }
+  const RuntimeSettings& settings() const { return settings_; }
+
+  // The route table's documentation rows, in table order.
+  static std::vector<RouteDoc> route_docs();
+  nlohmann::json openapi() const;
+
+  // One request as a handler sees it: the path parameters in pattern order, the decoded query.
+  struct Ctx {
+    const Request& req;
+    std::vector<std::string> params;
+    std::map<std::string, std::string> query;
+    const Respond& respond;
+  };
+  using Handler = void (Router::*)(const Ctx&);
+  struct Route {
+    RouteDoc doc;
+    Handler handler;
+  };
 
  private:
-  od::ObjectDictionary& od_;
-  std::function<Info()> info_;
-  std::function<std::optional<od::Value>(std::uint16_t, std::uint8_t)> factory_;
-  FaultInjections* faults_;
+  static const std::vector<Route>& routes();
+  void dispatch(const Request& request, const Respond& respond);
+  void page(const Request& request, const Respond& respond);
+  // What the page templates are filled with (web.md §3.5): info, a fresh status snapshot, objects.
+  PageContext page_context();
+  // API write journal: trace channel api (web.md §8.6) and, with udpEmulatorNotes, a UDP note.
+  void journal(const Request& request, const std::string& text);
+  void journal_text(std::uint64_t conn, const std::string& peer, const std::string& text);
+
+  // handlers_drive.cpp
+  void get_info(const Ctx& c);
+  void get_status(const Ctx& c);
+  void get_objects(const Ctx& c);
+  void get_object(const Ctx& c);
+  void put_object(const Ctx& c);
+  void post_objects_read(const Ctx& c);
+  void post_refgo(const Ctx& c);
+  void get_io(const Ctx& c);
+  void put_physical_inputs(const Ctx& c);
+  void post_store(const Ctx& c);
+  void post_factory_reset(const Ctx& c);
+  void post_power_cycle(const Ctx& c);
+  void get_eds(const Ctx& c);
+  void get_openapi(const Ctx& c);
+  void get_ws(const Ctx& c);
+  void store_or_reset(const Ctx& c, bool store);
+  // True for a body {} (or an empty POST body); otherwise answers 400 and returns false.
+  bool empty_body(const Ctx& c);
+  // handlers_emulator.cpp
+  void get_trace(const Ctx& c);
+  void get_trace_candump(const Ctx& c);
+  void get_trace_text(const Ctx& c);
+  void get_scope(const Ctx& c);
+  void get_led(const Ctx& c);
+  void get_udp(const Ctx& c);
+  // handlers_script.cpp: the JSON script endpoints (web.md §8.7) and /program.html (§6)
+  void get_script(const Ctx& c);
+  void put_script(const Ctx& c);
+  void post_script_start(const Ctx& c);
+  void post_script_stop(const Ctx& c);
+  void post_script_pause(const Ctx& c);
+  void post_script_resume(const Ctx& c);
+  void put_script_autostart(const Ctx& c);
+  void program_page(const Request& request, const Respond& respond);
+  void program_upload(const Request& request, const Respond& respond);
+  Response code_page(int status, std::string_view error) const;
+  void get_settings(const Ctx& c);
+  void put_settings(const Ctx& c);
+  void get_clock(const Ctx& c);
+  void post_clock_advance(const Ctx& c);
+  void get_faults(const Ctx& c);
+  void post_faults(const Ctx& c);
+  void delete_faults(const Ctx& c);
+  void delete_fault(const Ctx& c);
+  void script_action(const Ctx& c, const char* name, void (ScriptControl::*action)());
+  nlohmann::json io_json() const;
+  nlohmann::json script_json(const ScriptView& v) const;
+  ClockInfo clock_info() const;
+
+  Drive drive_;
+  Services services_;
+  RuntimeSettings settings_;
+  FaultInjections faults_;
+  Scope scope_;
+  StatusSnapshots snapshots_;
+  std::shared_ptr<Router*> self_;  // late completions check this is still alive
 };
 
 // The bodies of the error responses the adapter produces itself (431, 413, 400).
 Response error_page(int status, const std::string& reason);
-// "6041", "6041h", "0x6041" → 0x6041; sub-indices likewise ("0", "01h").
-std::optional<std::uint32_t> parse_hex_token(std::string_view text, std::uint32_t max);
 
 }  // namespace mcemu::web::api

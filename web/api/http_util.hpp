@@ -1,0 +1,66 @@
+// Helpers shared by the JSON API handlers (web.md §1.3, §1.4, §8): JSON responses and the error
+// body of §8, the upper-case hex forms of the answers, the query string and body parsers.
+// PURE: plain values only; nothing here throws on any input.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "drive/od/abort_code.hpp"
+#include "drive/od/types.hpp"
+#include "web/api/http_types.hpp"
+
+namespace mcemu::web::api {
+
+// JSON text of a value; invalid UTF-8 (raw RefGo bytes 0x80–0xFF) becomes U+FFFD instead of throwing.
+std::string dump_json(const nlohmann::json& j);
+
+// An API answer: application/json, Cache-Control: no-store (web.md §1.4).
+Response json_response(int status, const nlohmann::json& body);
+// Text answers (EDS, trace exports).
+Response text_response(int status, std::string content_type, std::string body);
+// The error body of web.md §8: {"error": {"code": …, "message": …}}.
+Response error_json(int status, std::string_view code, std::string_view message);
+// An OD refusal: 404 for a missing object or sub-index, 409 for every other code (web.md §8).
+Response abort_response(od::AbortCode c);
+// The 404 page of web.md §1.4 (HTML, links to /index.html).
+Response not_found_page();
+
+// Hex forms of web.md §8: "607Ah", "0Ah", "06090031h", and H4 of §4.2 ("0427h", at least 4 digits).
+std::string hex_index(std::uint16_t index);
+std::string hex_sub(std::uint8_t sub);
+std::string hex_u32(std::uint32_t v);
+std::string h4(std::uint32_t v);
+std::string abort_hex(od::AbortCode c);
+
+// "6041", "6041h", "0x6041" → 0x6041 if ≤ max; sub-indices likewise ("0", "01h").
+std::optional<std::uint32_t> parse_hex_token(std::string_view text, std::uint32_t max);
+// A JSON index/sub-index/code: a string is hex as above, a number is its plain value (web.md §8).
+std::optional<std::uint32_t> json_hex_or_number(const nlohmann::json& v, std::uint32_t max);
+// A JSON value as a non-negative integer in [min, max], or nullopt.
+std::optional<std::uint64_t> json_uint(const nlohmann::json& v, std::uint64_t min, std::uint64_t max);
+
+// A clock scale as JSON: an integer when it is one (1, 0), else the number (0.5).
+nlohmann::json scale_json(double scale);
+
+// od::Value as JSON (integer or string).
+nlohmann::json value_json(const od::Value& v);
+
+// True if the Content-Type's media type is application/json (case-insensitive, parameters allowed).
+bool is_json_media_type(std::string_view content_type);
+
+// The path of a request target (without "?query").
+std::string_view target_path(std::string_view target);
+// The query parameters of a target, percent-decoded ("+" is a space); nullopt for a malformed
+// escape or a repeated key.
+std::optional<std::map<std::string, std::string>> parse_query(std::string_view target);
+
+// The body of a request as a JSON object: an empty body of a POST counts as {} (web.md §1.3);
+// anything that is not a JSON object is nullopt.
+std::optional<nlohmann::json> json_object_body(const Request& r);
+
+}  // namespace mcemu::web::api

@@ -1,0 +1,143 @@
+#include "web/api/routes.hpp"
+
+#include <map>
+
+namespace mcemu::web::api {
+
+using nlohmann::json;
+
+std::string_view to_string(Method m) {
+  switch (m) {
+    case Method::get: return "GET";
+    case Method::put: return "PUT";
+    case Method::post: return "POST";
+    case Method::del: break;
+  }
+  return "DELETE";
+}
+
+std::optional<Method> method_of(std::string_view m) {
+  if (m == "GET" || m == "HEAD") return Method::get;
+  if (m == "PUT") return Method::put;
+  if (m == "POST") return Method::post;
+  if (m == "DELETE") return Method::del;
+  return std::nullopt;
+}
+
+namespace {
+
+std::vector<std::string_view> segments(std::string_view path) {
+  std::vector<std::string_view> out;
+  if (path.empty() || path[0] != '/') return out;
+  path.remove_prefix(1);
+  while (true) {
+    const auto slash = path.find('/');
+    out.push_back(path.substr(0, slash));
+    if (slash == std::string_view::npos) break;
+    path.remove_prefix(slash + 1);
+  }
+  return out;
+}
+
+bool is_parameter(std::string_view segment) {
+  return segment.size() >= 2 && segment.front() == '{' && segment.back() == '}';
+}
+
+// What a path parameter is, by its name (the patterns use these names only).
+std::string_view parameter_description(std::string_view name) {
+  if (name == "index") return "object index, hexadecimal with or without h/0x (6041, 6041h, 0x6041)";
+  if (name == "sub") return "sub-index, hexadecimal with or without h/0x (0, 01h)";
+  if (name == "id") return "injection id as returned by POST /api/v1/faults (f7)";
+  return "path parameter";
+}
+
+}  // namespace
+
+std::optional<std::vector<std::string>> match_path(std::string_view pattern, std::string_view path) {
+  const auto p = segments(pattern);
+  const auto s = segments(path);
+  if (p.empty() || p.size() != s.size()) return std::nullopt;
+  std::vector<std::string> values;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (is_parameter(p[i])) {
+      values.emplace_back(s[i]);
+    } else if (p[i] != s[i]) {
+      return std::nullopt;
+    }
+  }
+  return values;
+}
+
+std::size_t parameter_count(std::string_view pattern) { return parameter_names(pattern).size(); }
+
+std::vector<std::string> parameter_names(std::string_view pattern) {
+  std::vector<std::string> out;
+  for (const auto seg : segments(pattern)) {
+    if (is_parameter(seg)) out.emplace_back(seg.substr(1, seg.size() - 2));
+  }
+  return out;
+}
+
+json openapi_document(std::span<const RouteDoc> rows, std::string_view version) {
+  json paths = json::object();
+  for (const auto& r : rows) {
+    json op{{"summary", r.summary}, {"operationId", std::string(to_string(r.method)) + " " + std::string(r.path)}};
+    json params = json::array();
+    for (const auto& name : parameter_names(r.path)) {
+      params.push_back({{"name", name},
+                        {"in", "path"},
+                        {"required", true},
+                        {"description", parameter_description(name)},
+                        {"schema", {{"type", "string"}}}});
+    }
+    for (const auto& q : r.query) {
+      params.push_back({{"name", q.name},
+                        {"in", "query"},
+                        {"required", false},
+                        {"description", q.description},
+                        {"schema", {{"type", q.type}}}});
+    }
+    if (!params.empty()) op["parameters"] = params;
+    if (!r.body_type.empty()) {
+      json schema = r.body_schema.empty() ? json::object() : json::parse(r.body_schema, nullptr, false);
+      if (schema.is_discarded()) schema = json::object();
+      op["requestBody"] = {{"required", r.method != Method::post}, {"content", {{r.body_type, {{"schema", schema}}}}}};
+    }
+    json responses = json::object();
+    responses["200"] = {{"description", "OK"}, {"content", {{r.answer_type, json::object()}}}};
+    for (const auto& a : r.answers) {
+      json answer{{"description", a.description}};
+      if (a.status >= 300)
+        answer["content"] = {{"application/json", {{"schema", {{"$ref", "#/components/schemas/Error"}}}}}};
+      responses[std::to_string(a.status)] = answer;
+    }
+    op["responses"] = responses;
+    std::string method(to_string(r.method));
+    for (auto& c : method) c = static_cast<char>(c - 'A' + 'a');
+    paths[std::string(r.path)][method] = op;
+  }
+  const json error_schema = {
+      {"type", "object"},
+      {"required", {"error"}},
+      {"properties",
+       {{"error",
+         {{"type", "object"},
+          {"required", {"code", "message"}},
+          {"properties",
+           {{"code",
+             {{"type", "string"},
+              {"description", "abort, syntax, content-type, method, not-found, conflict, unavailable"}}},
+            {"abortCode", {{"type", "string"}, {"description", "SDO abort code, e.g. 06090031h (code abort only)"}}},
+            {"message", {{"type", "string"}}}}}}}}}};
+  return json{{"openapi", "3.0.3"},
+              {"info",
+               {{"title", "mcemu JSON API"},
+                {"version", version},
+                {"description",
+                 "The JSON API of the MovingCap emulator mcemu (web.md §8). Every state-changing POST needs "
+                 "Content-Type: application/json; errors carry the body of components.schemas.Error."}}},
+              {"paths", paths},
+              {"components", {{"schemas", {{"Error", error_schema}}}}}};
+}
+
+}  // namespace mcemu::web::api

@@ -1,0 +1,191 @@
+#include "web/api/status.hpp"
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "protocols/refgo/status.hpp"
+#include "web/api/http_util.hpp"
+
+namespace mcemu::web::api {
+
+using nlohmann::json;
+
+namespace {
+
+// drive-core.md §11.1 (names as in the manual) and web.md §5.1 (names the OCR lost: our choice).
+constexpr std::array<ErrorName, 13> k_error_names{{
+    {0x2220, "ERROR_OVER_CURRENT"},
+    {0x3211, "ERROR_OVER_VOLT"},
+    {0x3221, "ERROR_UNDER_VOLT"},
+    {0x4210, "ERROR_OVER_TEMP"},
+    {0x4220, "ERROR_DERATING"},
+    {0x5200, "ERROR_ACK"},
+    {0x7121, "ERROR_STROKE"},
+    {0x7510, "ERROR_COMMUNICATION"},
+    {0x8130, "ERROR_ABORT_CONNECTION"},
+    {0xFFF1, "ERROR_SENSOR"},
+    {0xFFF2, "ERROR_HW_SW_ENABLE"},
+    {0xFFF4, "ERROR_EXT_TORQUE"},
+    {0xFFF5, "ERROR_NEEDS_RESET"},
+}};
+
+std::int64_t num(const od::ObjectDictionary& od, std::uint16_t index, std::uint8_t sub, std::int64_t fallback = 0) {
+  const auto v = od.read_number(index, sub);
+  return v ? *v : fallback;
+}
+
+std::string str(const od::ObjectDictionary& od, std::uint16_t index, std::uint8_t sub) {
+  const auto v = od.read(index, sub);
+  if (v && std::holds_alternative<std::string>(*v)) return std::get<std::string>(*v);
+  return {};
+}
+
+}  // namespace
+
+std::span<const ErrorName> error_names() { return k_error_names; }
+
+std::string_view error_name(std::uint16_t code) {
+  for (const auto& e : k_error_names) {
+    if (e.code == code) return e.name;
+  }
+  return "UNKNOWN";
+}
+
+std::string last_error_text(std::uint16_t code) { return h4(code) + " / " + std::string(error_name(code)); }
+
+std::string_view live_word(int ts) {
+  switch (ts) {
+    case 0: return "OFF";
+    case 1: return "RDY";
+    case 2: return "MOV";
+    default: return "ERR";
+  }
+}
+
+std::int64_t motor_rpm(double velocity_inc_s, std::int64_t encoder_inc, std::int64_t motor_revs, bool negate) {
+  if (encoder_inc <= 0) return 0;
+  const double rpm = velocity_inc_s * 60.0 * static_cast<double>(motor_revs) / static_cast<double>(encoder_inc);
+  if (!std::isfinite(rpm)) return 0;
+  constexpr double k_limit = static_cast<double>(std::numeric_limits<std::int32_t>::max());
+  const auto r = static_cast<std::int64_t>(std::llround(std::fmax(-k_limit, std::fmin(k_limit, rpm))));
+  return negate ? -r : r;
+}
+
+std::string_view state_abbreviation(core::PdsState s) {
+  switch (s) {
+    case core::PdsState::not_ready_to_switch_on: return "NRTSO";
+    case core::PdsState::switch_on_disabled: return "SOD";
+    case core::PdsState::ready_to_switch_on: return "RTSO";
+    case core::PdsState::switched_on: return "SO";
+    case core::PdsState::operation_enabled: return "OE";
+    case core::PdsState::quick_stop_active: return "QSA";
+    case core::PdsState::fault_reaction_active: return "FRA";
+    case core::PdsState::fault: break;
+  }
+  return "F";
+}
+
+Footer footer(const FooterValues& v) {
+  Footer f;
+  f.live = "MC Live " + std::string(live_word(v.ts));
+  if (v.ts == 9) f.live += " " + h4(v.error_code);
+  f.statwd = "StatWd " + h4(v.statusword);
+  f.opmode = "OpMode " + std::to_string(v.op_mode_display);
+  f.python = "Python " + std::string(v.python_state) + (v.autostart ? "/A" : "");
+  f.pos = v.pos_user == v.pos_inc ? "Pos " + std::to_string(v.pos_inc) + " inc"
+                                  : "Pos " + std::to_string(v.pos_user) + " usr/ " + std::to_string(v.pos_inc) + " inc";
+  f.vel = v.vel_user == v.vel_rpm ? "Vel " + std::to_string(v.vel_rpm) + " rpm"
+                                  : "Vel " + std::to_string(v.vel_user) + " usr/ " + std::to_string(v.vel_rpm) + " rpm";
+  f.temp = v.temperature_c ? "Temp " + std::to_string(*v.temperature_c) +
+                                 "\xC2\xB0"
+                                 "C"
+                           : "Temp";
+  f.io = "I";
+  for (int n = 1; n <= 10; ++n) f.io += ((v.inputs >> (15 + n)) & 1U) ? static_cast<char>('0' + n % 10) : '.';
+  f.io += 'O';
+  for (int n = 1; n <= 4; ++n) f.io += ((v.outputs >> (15 + n)) & 1U) ? static_cast<char>('0' + n) : '.';
+  return f;
+}
+
+std::string status_json(const StatusInputs& in, std::uint64_t seq) {
+  const auto& od = in.od;
+  const auto statusword = static_cast<std::uint16_t>(num(od, 0x6041, 0));
+  const int ts = refgo::simple_status(refgo::tpsr(statusword));
+  const auto error_code = static_cast<std::uint16_t>(num(od, 0x603F, 0));
+  const auto polarity = num(od, 0x607E, 0);
+  const bool autostart = num(od, 0x3500, 4) != 0;
+  std::string script_id = str(od, 0x3500, 1);
+  if (script_id.empty()) script_id = "(empty)";
+
+  FooterValues fv;
+  fv.ts = ts;
+  fv.error_code = error_code;
+  fv.statusword = statusword;
+  fv.op_mode_display = static_cast<std::int8_t>(num(od, 0x6061, 0));
+  fv.python_state = in.python.state;
+  fv.autostart = autostart;
+  fv.pos_user = num(od, 0x6064, 0);
+  fv.pos_inc = num(od, 0x6063, 0);
+  fv.vel_user = num(od, 0x606C, 0);
+  fv.vel_rpm = motor_rpm(in.velocity_inc_s, num(od, 0x608F, 1, 65536), num(od, 0x608F, 2, 1), (polarity & 0x40) != 0);
+  if (in.temperature_available) fv.temperature_c = num(od, 0x3401, 0x0A);
+  fv.inputs = static_cast<std::uint32_t>(num(od, 0x60FD, 0));
+  fv.outputs = static_cast<std::uint32_t>(num(od, 0x60FE, 1));
+  const Footer f = footer(fv);
+
+  json last_error = nullptr;
+  if (num(od, 0x1003, 0) > 0) {
+    const auto code = static_cast<std::uint32_t>(num(od, 0x1003, 1));
+    last_error = json{{"code", code}, {"text", last_error_text(static_cast<std::uint16_t>(code & 0xFFFF))}};
+  }
+
+  json j{
+      {"seq", seq},
+      {"timeMs", in.time_ms},
+      {"state", state_abbreviation(in.state)},
+      {"live", live_word(ts)},
+      {"ts", ts},
+      {"tpsr", refgo::tpsr(statusword)},
+      {"statusword", statusword},
+      {"controlword", num(od, 0x6040, 0)},
+      {"opMode", num(od, 0x6060, 0)},
+      {"opModeDisplay", fv.op_mode_display},
+      {"errorCode", error_code},
+      {"lastError", last_error},
+      {"mfrStatus", num(od, 0x1002, 0)},
+      {"posUser", fv.pos_user},
+      {"posInc", fv.pos_inc},
+      {"velUser", fv.vel_user},
+      {"velRpm", fv.vel_rpm},
+      {"targetPos", num(od, 0x607A, 0)},
+      {"current", num(od, 0x6078, 0)},
+      {"temperatureC", fv.temperature_c ? json(*fv.temperature_c) : json(nullptr)},
+      {"inputs", fv.inputs},
+      {"virtualInputs", num(od, 0x3510, 1)},
+      {"outputs", fv.outputs},
+      {"python", {{"state", in.python.state}, {"autostart", autostart}, {"id", script_id}, {"line", in.python.line}}},
+      {"refgo",
+       {{"clients", in.refgo.clients},
+        {"attachMode", in.refgo.attach_mode},
+        {"repeatWay", in.refgo.repeat_way},
+        {"waitTimeMs", in.refgo.wait_time_ms},
+        {"backAndForth", in.refgo.back_and_forth},
+        {"jogTimerMs", in.refgo.jog_timer_ms ? json(*in.refgo.jog_timer_ms) : json(nullptr)}}},
+      {"udp", {{"listeners", in.udp_listeners}}},
+      {"led", {{"green", in.led.green}, {"yellow", in.led.yellow}}},
+      {"footer",
+       {{"live", f.live},
+        {"statwd", f.statwd},
+        {"opmode", f.opmode},
+        {"python", f.python},
+        {"pos", f.pos},
+        {"vel", f.vel},
+        {"temp", f.temp},
+        {"io", f.io}}},
+  };
+  return dump_json(j);
+}
+
+}  // namespace mcemu::web::api
