@@ -1,0 +1,131 @@
+#include "scripting/core/ipc.hpp"
+
+namespace mcemu::scripting::ipc {
+
+namespace {
+
+std::uint64_t get_le(std::string_view s, std::size_t at, std::size_t n) {
+  std::uint64_t v = 0;
+  for (std::size_t k = 0; k < n; ++k) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(s[at + k])) << (8 * k);
+  return v;
+}
+
+void put_le(std::string& out, std::uint64_t v, std::size_t n) {
+  for (std::size_t k = 0; k < n; ++k) out += static_cast<char>((v >> (8 * k)) & 0xFF);
+}
+
+bool known_kind(char c) {
+  switch (static_cast<Kind>(c)) {
+    case Kind::hello:
+    case Kind::compiled:
+    case Kind::call:
+    case Kind::output:
+    case Kind::sleep:
+    case Kind::cancel:
+    case Kind::end:
+    case Kind::fatal:
+    case Kind::log:
+    case Kind::start:
+    case Kind::reply:
+    case Kind::wake: return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+Decoded decode(std::string_view buffer) {
+  Decoded d;
+  if (buffer.size() < k_header) return d;
+  const std::uint64_t n = get_le(buffer, 0, k_header);
+  if (n == 0 || n > k_max_payload) {
+    d.error = true;
+    return d;
+  }
+  if (buffer.size() < k_header + n) return d;
+  if (!known_kind(buffer[k_header])) {
+    d.error = true;
+    return d;
+  }
+  d.consumed = k_header + static_cast<std::size_t>(n);
+  d.message = Message{static_cast<Kind>(buffer[k_header]), std::string(buffer.substr(k_header + 1, n - 1))};
+  return d;
+}
+
+std::string encode(Kind kind, std::string_view body) {
+  std::string out;
+  out.reserve(k_header + 1 + body.size());
+  put_le(out, body.size() + 1, k_header);
+  out += static_cast<char>(kind);
+  out += body;
+  return out;
+}
+
+std::string encode_values(std::span<const Value> values) {
+  std::string out;
+  put_le(out, values.size() & 0xFFFF, 2);
+  for (const auto& v : values) {
+    out += static_cast<char>(v.tag);
+    switch (v.tag) {
+      case Value::Tag::none: break;
+      case Value::Tag::integer: put_le(out, static_cast<std::uint64_t>(v.i), 8); break;
+      case Value::Tag::bytes:
+      case Value::Tag::text:
+        put_le(out, v.s.size(), 4);
+        out += v.s;
+        break;
+    }
+  }
+  return out;
+}
+
+std::optional<std::vector<Value>> decode_values(std::string_view body) {
+  if (body.size() < 2) return std::nullopt;
+  const auto count = static_cast<std::size_t>(get_le(body, 0, 2));
+  std::size_t at = 2;
+  std::vector<Value> out;
+  out.reserve(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    if (at >= body.size()) return std::nullopt;
+    const char tag = body[at++];
+    switch (static_cast<Value::Tag>(tag)) {
+      case Value::Tag::none: out.push_back(Value::none()); break;
+      case Value::Tag::integer:
+        if (body.size() - at < 8) return std::nullopt;
+        out.push_back(Value::integer(static_cast<std::int64_t>(get_le(body, at, 8))));
+        at += 8;
+        break;
+      case Value::Tag::bytes:
+      case Value::Tag::text: {
+        if (body.size() - at < 4) return std::nullopt;
+        const std::uint64_t n = get_le(body, at, 4);
+        at += 4;
+        if (body.size() - at < n) return std::nullopt;
+        std::string s(body.substr(at, static_cast<std::size_t>(n)));
+        at += static_cast<std::size_t>(n);
+        out.push_back(static_cast<Value::Tag>(tag) == Value::Tag::bytes ? Value::bytes(std::move(s))
+                                                                        : Value::text(std::move(s)));
+        break;
+      }
+      default: return std::nullopt;
+    }
+  }
+  if (at != body.size()) return std::nullopt;
+  return out;
+}
+
+std::string encode_call(const Call& call) {
+  std::string out;
+  put_le(out, call.function, 2);
+  out += encode_values(call.args);
+  return out;
+}
+
+std::optional<Call> decode_call(std::string_view body) {
+  if (body.size() < 2) return std::nullopt;
+  auto values = decode_values(body.substr(2));
+  if (!values) return std::nullopt;
+  return Call{static_cast<std::uint16_t>(get_le(body, 0, 2)), std::move(*values)};
+}
+
+}  // namespace mcemu::scripting::ipc

@@ -1,0 +1,17 @@
+# Writes OUT: a C++ source defining mcemu::scripting::runner_modules(), the runner's Python files
+# (FILES, in DIR) as raw string literals, in order.
+string(REPLACE "," ";" FILES "${FILES}")
+set(body "// Generated from scripting/runner/*.py by scripting/embed_runner.cmake. Do not edit.\n")
+string(APPEND body "#include \"scripting/runner_embedded.hpp\"\n\nnamespace mcemu::scripting {\n\n")
+string(APPEND body "std::span<const RunnerModule> runner_modules() {\n  static const RunnerModule k_modules[] = {\n")
+foreach(f ${FILES})
+  file(READ ${DIR}/${f}.py text)
+  string(FIND "${text}" ")mcemu_py\"" clash)
+  if(NOT clash EQUAL -1)
+    message(FATAL_ERROR "${f}.py contains the raw-string delimiter")
+  endif()
+  string(APPEND body "      {\"_mcemu_${f}\", R\"mcemu_py(${text})mcemu_py\"},\n")
+endforeach()
+string(APPEND body "  };\n  return k_modules;\n}\n\n}  // namespace mcemu::scripting\n")
+file(WRITE ${OUT}.tmp "${body}")
+file(COPY_FILE ${OUT}.tmp ${OUT} ONLY_IF_DIFFERENT)
