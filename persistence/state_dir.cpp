@@ -35,7 +35,7 @@ std::optional<ParsedFile> StateDir::load(std::string_view model, const od::Objec
     if (!error.empty()) {
       spdlog::error("{}; using factory defaults (stores will fail)", error);
     } else {
-      spdlog::info("no stored parameters in {}; using factory defaults", dir_.string());
+      spdlog::info("no stored parameters in {} ({}); using factory defaults", dir_.string(), file.filename().string());
     }
     return std::nullopt;
   }

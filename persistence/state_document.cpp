@@ -92,6 +92,9 @@ std::string serialize(const Image& image, std::string_view model, std::string_vi
 
 std::variant<ParsedFile, ParseFailure> parse(std::string_view text, std::string_view running_model,
                                              const od::ObjectDictionary& od) {
+  // A real file is far below both limits (the whole dictionary and a 64 KiB script, base64: < 1 MiB);
+  // beyond them it is not a state file of ours, and it is not held in memory as one.
+  if (text.size() > k_max_state_file_bytes) return ParseFailure{"larger than 16 MiB"};
   json doc = json::parse(text, nullptr, false);
   if (doc.is_discarded()) return ParseFailure{"not valid JSON"};
   if (!doc.is_object()) return ParseFailure{"not a JSON object"};
@@ -113,6 +116,7 @@ std::variant<ParsedFile, ParseFailure> parse(std::string_view text, std::string_
     return ParseFailure{"payload_crc32 mismatch"};
   }
   if (!payload.contains("objects") || !payload["objects"].is_object()) return ParseFailure{"missing payload.objects"};
+  if (payload["objects"].size() > k_max_state_objects) return ParseFailure{"more than 65536 objects"};
 
   ParsedFile out;
   for (const auto& [key, value] : payload["objects"].items()) {
@@ -159,7 +163,12 @@ std::string serialize_plant(std::string_view model, std::int64_t raw_position_in
 std::optional<std::int64_t> parse_plant(std::string_view text, std::string_view running_model) {
   json doc = json::parse(text, nullptr, false);
   if (doc.is_discarded() || !doc.is_object()) return std::nullopt;
-  if (doc.value("format", "") != k_plant_format || doc.value("model", "") != running_model) return std::nullopt;
+  // json::value() throws when the member is there with another type ("format": 1): compare strings only
+  const auto is_string_equal = [&doc](const char* key, std::string_view want) {
+    const auto it = doc.find(key);
+    return it != doc.end() && it->is_string() && it->get_ref<const std::string&>() == want;
+  };
+  if (!is_string_equal("format", k_plant_format) || !is_string_equal("model", running_model)) return std::nullopt;
   if (!doc.contains("raw_position_inc") || !doc["raw_position_inc"].is_number_integer()) return std::nullopt;
   return doc["raw_position_inc"].get<std::int64_t>();
 }

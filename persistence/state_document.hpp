@@ -48,6 +48,8 @@ struct ParsedFile {
   Image image;
   std::vector<std::string> bad_keys;  // unknown object or value out of range / wrong type (§11)
 };
+inline constexpr std::size_t k_max_state_file_bytes = 16 * 1024 * 1024;
+inline constexpr std::size_t k_max_state_objects = 65536;
 struct ParseFailure {
   std::string reason;  // for the "is corrupt (<reason>)" warning
 };

@@ -3,9 +3,20 @@
 #include <algorithm>
 
 #include "protocols/canopen/dynamic_mapping.hpp"
+#include "protocols/slcan/codec.hpp"
 #include "protocols/slcan/session.hpp"
 
 namespace mcemu::server {
+
+namespace {
+
+std::string frame_text(const can::Frame& f) {
+  std::string line = slcan::encode_frame(f, std::nullopt);
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  return "frame " + line;
+}
+
+}  // namespace
 
 struct CanopenBus::Registry {
   CanopenBus* bus = nullptr;  // null once the bus is gone
@@ -53,7 +64,7 @@ CanopenBus::~CanopenBus() {
 
 std::size_t CanopenBus::session_count() const { return registry_->sessions.size(); }
 
-std::unique_ptr<line::StreamSession> CanopenBus::make_session() {
+std::unique_ptr<line::StreamSession> CanopenBus::make_session(slcan::Session::Trace trace) {
   std::weak_ptr<Registry> weak = registry_;
   auto inner = std::make_unique<slcan::Session>(
       slcan_,
@@ -66,6 +77,11 @@ std::unique_ptr<line::StreamSession> CanopenBus::make_session() {
         const auto h = r->bus->od_.find(0x3404, 4);
         return h ? static_cast<std::uint32_t>(r->bus->od_.number(*h)) : 0u;
       });
+  inner->set_trace(std::move(trace));
+  inner->set_bel_fault([weak] {
+    auto r = weak.lock();
+    return r && r->bus && r->bus->faults_.bel && r->bus->faults_.bel();
+  });
   registry_->sessions.push_back(inner.get());
   return std::make_unique<BusSession>(registry_, std::move(inner));
 }
@@ -88,11 +104,39 @@ void CanopenBus::step(std::chrono::milliseconds dt) {
 void CanopenBus::from_client(const can::Frame& frame) { broadcast(node_->on_frame(frame, now_)); }
 
 void CanopenBus::broadcast(const std::vector<can::Frame>& frames) {
-  // A session may be destroyed by a write error only asynchronously, never inside deliver().
   const auto stamp = now_ - powered_at_;
   for (const auto& f : frames) {
-    for (auto* s : registry_->sessions) s->deliver(f, stamp);
+    const auto v = faults_.node_frame ? faults_.node_frame(f) : web::api::Verdict{};
+    if (v.action == web::api::Verdict::Action::drop) {
+      if (faults_.trace) faults_.trace(web::api::verdict_text(v, frame_text(f)));
+      continue;
+    }
+    const auto wall = faults_.wall_now ? faults_.wall_now() : std::chrono::milliseconds(0);
+    const bool was_empty = delayed_.empty();
+    if (v.action == web::api::Verdict::Action::delay && faults_.trace) {
+      faults_.trace(web::api::verdict_text(v, frame_text(f)));
+    }
+    if (auto now = delayed_.push(Stamped{f, stamp}, wall, wall + v.delay)) {
+      deliver(*now);
+    } else if (was_empty && faults_.schedule) {
+      faults_.schedule(*delayed_.next_due());
+    }
   }
+}
+
+void CanopenBus::deliver(const Stamped& f) {
+  // A session may be destroyed by a write error only asynchronously, never inside deliver().
+  for (auto* s : registry_->sessions) s->deliver(f.frame, f.stamp);
+}
+
+void CanopenBus::release_delayed() {
+  const auto wall = faults_.wall_now ? faults_.wall_now() : std::chrono::milliseconds(0);
+  for (const auto& f : delayed_.pop_due(wall)) deliver(f);
+  if (const auto due = delayed_.next_due(); due && faults_.schedule) faults_.schedule(*due);
+}
+
+void CanopenBus::send_raw(std::string_view text) {
+  for (auto* s : registry_->sessions) s->send_raw(text);
 }
 
 }  // namespace mcemu::server

@@ -13,10 +13,17 @@
 // - Frame timestamps (Z1) are simulated ms since power_on().
 // - With canopen.dynamic_pdo_mapping the dictionary must have been built from
 //   canopen::make_mapping_dynamic() entries; the bus then installs the §9.7 write rules.
+// - Fault injection (slcan-canopen.md §11.3), through Faults: every node frame gets a verdict
+//   (slcan.dropTx: sent to no session; slcan.delayTx: held back in wall time, order kept — the
+//   server's timer calls release_delayed() at next_release()); slcan.bel is asked by every
+//   session per line; send_raw() is slcan.rawTx.
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <memory>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "drive/od/dictionary.hpp"
@@ -25,6 +32,8 @@
 #include "protocols/canopen/node.hpp"
 #include "protocols/line/stream_session.hpp"
 #include "protocols/slcan/config.hpp"
+#include "protocols/slcan/session.hpp"
+#include "web/api/fault_gates.hpp"
 
 namespace mcemu::slcan {
 class Session;
@@ -43,7 +52,22 @@ class CanopenBus {
   CanopenBus(const CanopenBus&) = delete;
   CanopenBus& operator=(const CanopenBus&) = delete;
 
-  std::unique_ptr<line::StreamSession> make_session();
+  struct Faults {
+    std::function<web::api::Verdict(const can::Frame&)> node_frame;  // empty: every frame is sent
+    std::function<bool()> bel;                                       // slcan.bel, per command line
+    std::function<std::chrono::milliseconds()> wall_now;             // for held-back frames
+    std::function<void(std::chrono::milliseconds due)> schedule;     // call release_delayed() then
+    std::function<void(const std::string& text)> trace;              // a frame dropped or held back
+  };
+  void set_faults(Faults f) { faults_ = std::move(f); }
+  // Sends the held-back frames whose time has come; asks for the next call through schedule().
+  void release_delayed();
+  std::optional<std::chrono::milliseconds> next_release() const { return delayed_.next_due(); }
+  // slcan.rawTx: `text` to every session as it is.
+  void send_raw(std::string_view text);
+
+  // `trace`: the session's lines and events (slcan-canopen.md §11.2), may be empty.
+  std::unique_ptr<line::StreamSession> make_session(slcan::Session::Trace trace = {});
   void power_on();  // node power on now: boot-up after 10 ms (web power cycle)
   // mcemu start: power on and run the node to its boot-up at once, before the port accepts
   // connections, so that "ready" means the node answers (the real drive booted long before any
@@ -58,8 +82,13 @@ class CanopenBus {
  private:
   class BusSession;
   struct Registry;  // shared with the sessions
+  struct Stamped {
+    can::Frame frame;
+    std::chrono::milliseconds stamp;
+  };
   void from_client(const can::Frame& frame);
   void broadcast(const std::vector<can::Frame>& frames);
+  void deliver(const Stamped& f);
 
   od::ObjectDictionary& od_;
   slcan::SlcanConfig slcan_;
@@ -68,6 +97,8 @@ class CanopenBus {
   std::shared_ptr<Registry> registry_;
   std::chrono::milliseconds now_{0};
   std::chrono::milliseconds powered_at_{0};
+  Faults faults_;
+  web::api::DelayLine<Stamped> delayed_;
 };
 
 }  // namespace mcemu::server

@@ -2,50 +2,111 @@
 
 #include <spdlog/spdlog.h>
 
+#include <boost/asio/post.hpp>
+
 namespace mcemu::server {
 
 using clock = std::chrono::steady_clock;
-constexpr auto k_step = std::chrono::milliseconds(1);
-constexpr int k_max_catch_up = 50;
+
+// The old contract: a callback that needs every step.
+class ClockDriver::Always final : public sim::Steppable {
+ public:
+  explicit Always(std::function<void()> step) : step_(std::move(step)) {}
+  void step() override { step_(); }
+  std::uint64_t quiet_steps() const override { return 0; }
+  void skip(std::uint64_t) override {}
+  void touch() override {}
+
+ private:
+  std::function<void()> step_;
+};
+
+ClockDriver::ClockDriver(boost::asio::io_context& io, sim::Steppable& target, ClockMode mode)
+    : io_(io), timer_(io), logic_(target, mode) {}
 
 ClockDriver::ClockDriver(boost::asio::io_context& io, std::function<void()> step)
-    : timer_(io), step_(std::move(step)) {}
+    : always_(std::make_unique<Always>(std::move(step))), io_(io), timer_(io), logic_(*always_, ClockMode{}) {}
+
+ClockDriver::~ClockDriver() {
+  *alive_ = false;
+  stop();
+}
+
+ClockLogic::Wall ClockDriver::now() const {
+  return std::chrono::duration_cast<ClockLogic::Wall>(clock::now() - epoch_);
+}
 
 void ClockDriver::start() {
   running_ = true;
-  next_ = clock::now() + k_step;
-  arm();
+  epoch_ = clock::now();
+  logic_.start(now());
+  reschedule(logic_.plan());
 }
 
 void ClockDriver::stop() {
   running_ = false;
+  armed_.reset();
   timer_.cancel();
 }
 
-void ClockDriver::arm() {
-  timer_.expires_at(next_);
-  timer_.async_wait([this](const boost::system::error_code& ec) {
-    if (!ec && running_) on_tick();
+void ClockDriver::sync() {
+  if (!running_) return;
+  reschedule(logic_.sync(now()));
+}
+
+void ClockDriver::wake() {
+  if (!running_) return;
+  reschedule(logic_.touch());
+}
+
+bool ClockDriver::advance(std::uint64_t ms, std::function<void()> done) {
+  if (!logic_.request(ms, std::move(done))) return false;
+  if (running_) reschedule(logic_.plan());
+  return true;
+}
+
+void ClockDriver::reschedule(const ClockLogic::Next& next) {
+  if (!running_) return;
+  using Kind = ClockLogic::Next::Kind;
+  if (next.kind == Kind::now) {
+    if (next.lag > ClockLogic::k_max_full_per_wake) {
+      const auto t = clock::now();
+      if (t - last_warning_ > std::chrono::seconds(10)) {
+        spdlog::warn("simulation is {} ms behind real time (the event loop is overloaded)", next.lag);
+        last_warning_ = t;
+      }
+    }
+    if (posted_) return;
+    posted_ = true;
+    boost::asio::post(io_, [this, alive = std::weak_ptr<bool>(alive_)] {
+      if (alive.expired()) return;
+      posted_ = false;
+      if (running_) fire();
+    });
+    return;
+  }
+  if (next.kind == Kind::wait) {
+    if (armed_) {
+      armed_.reset();
+      timer_.cancel();
+    }
+    return;
+  }
+  // sleep_until: re-arm only when the new time is earlier (a later one would fire harmlessly: the
+  // wake-up re-plans)
+  if (armed_ && *armed_ <= next.at) return;
+  armed_ = next.at;
+  timer_.expires_at(epoch_ + std::chrono::duration_cast<clock::duration>(next.at));
+  timer_.async_wait([this, alive = std::weak_ptr<bool>(alive_)](const boost::system::error_code& ec) {
+    if (ec || alive.expired()) return;
+    armed_.reset();
+    if (running_) fire();
   });
 }
 
-void ClockDriver::on_tick() {
-  const auto now = clock::now();
-  int n = 0;
-  while (next_ <= now && n < k_max_catch_up) {
-    step_();
-    ++steps_;
-    ++n;
-    next_ += k_step;
-  }
-  if (next_ <= now) {
-    const auto lag = std::chrono::duration_cast<std::chrono::milliseconds>(now - next_).count();
-    if (now - last_warning_ > std::chrono::seconds(10)) {
-      spdlog::warn("simulation is {} ms behind real time (the event loop is overloaded)", lag);
-      last_warning_ = now;
-    }
-  }
-  arm();
+void ClockDriver::fire() {
+  ++wake_ups_;
+  reschedule(logic_.on_wake(now()));
 }
 
 }  // namespace mcemu::server

@@ -1,6 +1,16 @@
-// The real-time driver of simulated time (drive-core.md §2.2): a steady-clock timer every 1 ms;
-// on each firing the step callback runs once per whole millisecond elapsed since the last call,
-// at most 50 per firing (one warning per 10 s names the lag).
+// The driver of simulated time (drive-core.md §2.2, spec README "Time", web.md §8.10): the Asio
+// shell around ClockLogic. Under --clock real (1 ms steps paced by the wall clock) and
+// scaled:X (drive time = X × wall time) it sleeps until the next step the drive needs — an idle
+// drive costs no wake-ups — and catches up exactly when woken by that deadline or by a client
+// (sync/wake); when behind it runs at most 50 full steps per loop iteration and logs one warning
+// per 10 s naming the lag. Under --clock manual drive time stands still except for advance().
+//
+// Contract: event-loop thread only; the target (one drive's sim::DriveSteps, or a sim::Fleet) must
+// outlive the driver. The composition root calls
+//   sync()  before a client's input (RefGo line, SLCAN frame, HTTP request, UDP datagram, a
+//           persistence completion) touches or reads the drive — drive time is then current;
+//   wake()  after anything outside a step changed the drive or queued output for it (a CANopen
+//           node's wake hook, a script's OD write) — cheap: marks the next step full, re-plans.
 #pragma once
 
 #include <boost/asio/io_context.hpp>
@@ -8,26 +18,60 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
+
+#include "server/clock_logic.hpp"
+#include "server/clock_mode.hpp"
+#include "sim/steppable.hpp"
 
 namespace mcemu::server {
 
 class ClockDriver {
  public:
+  ClockDriver(boost::asio::io_context& io, sim::Steppable& target, ClockMode mode = {});
+  // Compatibility: a step callback that needs every step (no idle sleeping), real time.
   ClockDriver(boost::asio::io_context& io, std::function<void()> step);
+  ~ClockDriver();
+  ClockDriver(const ClockDriver&) = delete;
+  ClockDriver& operator=(const ClockDriver&) = delete;
+
   void start();
-  void stop();
-  std::uint64_t steps() const { return steps_; }
+  void stop();  // pending advance() requests are dropped (their done never runs)
+
+  void sync();
+  void wake();
+
+  // web.md §8.10: manual clock only, 1 ≤ ms ≤ 3 600 000; false = refused (409 / 400 by the caller).
+  // A second call waits for the first; `done` runs on the loop after the last step.
+  bool advance(std::uint64_t ms, std::function<void()> done);
+  // Scripts under --clock manual (scripting.md §8): while held() answers true no step runs; call
+  // resume() when it turns false (the script slept, paused or ended).
+  void set_hold(std::function<bool()> held) { logic_.set_hold(std::move(held)); }
+  void resume() { reschedule(logic_.plan()); }
+
+  const ClockMode& mode() const { return logic_.mode(); }
+  double scale() const { return logic_.mode().scale; }
+  std::uint64_t steps() const { return logic_.ticks(); }            // drive ms advanced since start()
+  std::uint64_t full_steps() const { return logic_.full_steps(); }  // of which really run
+  std::uint64_t wake_ups() const { return wake_ups_; }
 
  private:
-  void arm();
-  void on_tick();
+  class Always;
+  ClockLogic::Wall now() const;
+  void reschedule(const ClockLogic::Next& next);
+  void fire();
 
+  std::unique_ptr<Always> always_;  // only with the compatibility constructor
+  boost::asio::io_context& io_;
   boost::asio::steady_timer timer_;
-  std::function<void()> step_;
-  std::chrono::steady_clock::time_point next_;  // time of the next due step
-  std::chrono::steady_clock::time_point last_warning_{};
-  std::uint64_t steps_ = 0;
+  ClockLogic logic_;
+  std::chrono::steady_clock::time_point epoch_;
+  std::optional<ClockLogic::Wall> armed_;  // the timer's expiry, if armed
+  bool posted_ = false;
   bool running_ = false;
+  std::uint64_t wake_ups_ = 0;
+  std::chrono::steady_clock::time_point last_warning_{};
+  std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
 };
 
 }  // namespace mcemu::server

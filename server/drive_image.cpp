@@ -1,5 +1,7 @@
 #include "server/drive_image.hpp"
 
+#include <ctime>
+
 #include "persistence/state_document.hpp"
 
 namespace mcemu::server {
@@ -113,6 +115,23 @@ json dump_od(const od::ObjectDictionary& od, const std::string& model) {
     entries.push_back(std::move(entry));
   });
   return json{{"model", model}, {"entries", entries}};
+}
+
+canopen::EdsInfo eds_info(const model::ModelPreset& preset) {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  localtime_r(&now, &tm);
+  char date[16];
+  char time[16];
+  std::strftime(date, sizeof date, "%m-%d-%Y", &tm);
+  std::strftime(time, sizeof time, "%I:%M%p", &tm);
+  canopen::EdsInfo info;
+  info.file_name = preset.name + ".eds";
+  info.vendor_name = "Fullmo GmbH";
+  info.description = "MovingCap " + preset.name + " (" + preset.identity.device_name + ") emulated by mcemu";
+  info.date = date;
+  info.time = time;
+  return info;
 }
 
 }  // namespace mcemu::server

@@ -2,6 +2,7 @@
 // App on one io_context and runs it until SIGINT/SIGTERM.
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
@@ -25,25 +26,24 @@ void setup_logging(const std::string& level) {
   spdlog::flush_on(spdlog::level::trace);
 }
 
-// --dump-eds: the file information of the EDS; the date is today's (CiA 306 formats).
-mcemu::canopen::EdsInfo eds_info(const mcemu::model::ModelPreset& preset) {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  localtime_r(&now, &tm);
-  char date[16];
-  char time[16];
-  std::strftime(date, sizeof date, "%m-%d-%Y", &tm);
-  std::strftime(time, sizeof time, "%I:%M%p", &tm);
-  mcemu::canopen::EdsInfo info;
-  info.file_name = preset.name + ".eds";
-  info.vendor_name = "Fullmo GmbH";
-  info.description = "MovingCap " + preset.name + " (" + preset.identity.device_name + ") emulated by mcemu";
-  info.date = date;
-  info.time = time;
-  return info;
+// Every connection is a file descriptor: the soft limit (often 1024) would stop --max-clients 1000
+// short of its promise, so it is raised to the hard limit at start.
+void raise_file_limit() {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_NOFILE, &limit) != 0) return;
+  if (limit.rlim_cur < limit.rlim_max) {
+    const auto before = limit.rlim_cur;
+    limit.rlim_cur = limit.rlim_max;
+    if (::setrlimit(RLIMIT_NOFILE, &limit) != 0) {
+      spdlog::warn("cannot raise the file descriptor limit above {}", before);
+      return;
+    }
+  }
+  spdlog::debug("file descriptor limit {}", limit.rlim_cur);
 }
 
 int run(const mcemu::server::Settings& settings) {
+  raise_file_limit();
   boost::asio::io_context io(1);
   mcemu::server::App app(io, settings);
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
@@ -77,7 +77,7 @@ int start(int argc, char** argv) {
       mcemu::od::ObjectDictionary od(preset);
       mcemu::server::apply_config_objects(od, settings.config);
       if (settings.dump_eds) {
-        std::cout << mcemu::canopen::make_eds(od, eds_info(preset));
+        std::cout << mcemu::canopen::make_eds(od, mcemu::server::eds_info(preset));
       } else {
         std::cout << mcemu::server::dump_od(od, preset.name).dump(1) << "\n";
       }

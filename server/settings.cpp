@@ -16,10 +16,13 @@ using nlohmann::json;
 
 namespace {
 
+constexpr std::uint64_t k_max_drives = 4096;
+
+constexpr std::uint64_t k_max_idle_timeout_s = 7 * 24 * 3600;  // a week
 const std::set<std::string> k_levels = {"trace", "debug", "info", "warn", "error", "critical", "off"};
 // Top-level config sections owned by components; validated there.
-const std::set<std::string> k_sections = {"objects", "model_overrides", "plant", "homing", "slcan",
-                                          "canopen", "settings",        "refgo", "http",   "udp"};
+const std::set<std::string> k_sections = {"objects",  "model_overrides", "plant", "homing", "slcan",    "canopen",
+                                          "settings", "refgo",           "http",  "udp",    "scripting"};
 
 std::string names_of_presets() {
   std::string out;
@@ -95,16 +98,36 @@ void set_option(Settings& s, const std::string& name, const std::string& value, 
                        " (trace, debug, info, warn, error, critical, off)");
     }
     s.log_level = value;
+  } else if (name == "drives") {
+    const auto n = parse_uint(value, k_max_drives, what);
+    if (n == 0) throw UsageError("invalid value '0' for " + what + " (at least 1)");
+    s.drives = static_cast<std::size_t>(n);
+  } else if (name == "port-step") {
+    const auto n = parse_uint(value, 65535, what);
+    if (n == 0) throw UsageError("invalid value '0' for " + what + " (at least 1)");
+    s.port_step = static_cast<std::uint32_t>(n);
+  } else if (name == "fleet") {
+    if (value.empty()) throw UsageError("empty value for " + what);
+    s.fleet_file = value;
+  } else if (name == "idle-timeout") {
+    s.idle_timeout = std::chrono::seconds(parse_uint(value, k_max_idle_timeout_s, what));
   } else if (name == "max-clients") {
     const auto n = parse_clients(value, what);
     s.refgo_max_clients = s.slcan_max_clients = s.http_max_clients = n;
+  } else if (name == "clock") {
+    try {
+      s.clock = parse_clock_mode(value);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError("invalid value '" + value + "' for " + what + " (" + e.what() + ")");
+    }
   } else {
     throw UsageError("unknown option --" + name + " (see --help)");
   }
 }
 
-const std::set<std::string> k_value_flags = {"model", "bind",      "refgo-port", "slcan-port", "http-port",  "udp-port",
-                                             "ip",    "state-dir", "config",     "log-level",  "max-clients"};
+const std::set<std::string> k_value_flags = {
+    "model",  "bind",      "refgo-port",  "slcan-port",   "http-port", "udp-port",  "ip",    "state-dir",
+    "config", "log-level", "max-clients", "idle-timeout", "drives",    "port-step", "fleet", "clock"};
 
 std::string scalar_text(const json& v, const std::string& what) {
   if (v.is_string()) return v.get<std::string>();
@@ -119,6 +142,16 @@ std::string invalid_ipv4(const std::string& text, const std::string& what) {
   m += what;
   m += " (expected A.B.C.D)";
   return m;
+}
+
+json read_json_file(const std::string& path, const std::string& what) {
+  std::ifstream in(path);
+  if (!in) throw UsageError("cannot read " + what + " " + path);
+  std::stringstream buf;
+  buf << in.rdbuf();
+  json doc = json::parse(buf.str(), nullptr, false);
+  if (doc.is_discarded()) throw UsageError(what + " " + path + " is not valid JSON");
+  return doc;
 }
 
 }  // namespace
@@ -196,14 +229,15 @@ Settings parse_command_line(const std::vector<std::string>& args) {
   }
   if (s.help || s.version) return s;
   if (s.config_file) {
-    std::ifstream in(*s.config_file);
-    if (!in) throw UsageError("cannot read config file " + *s.config_file);
-    std::stringstream buf;
-    buf << in.rdbuf();
-    json doc = json::parse(buf.str(), nullptr, false);
-    if (doc.is_discarded()) throw UsageError("config file " + *s.config_file + " is not valid JSON");
     // Re-apply command-line values after the config so that they win.
-    apply_config(s, doc, given);
+    apply_config(s, read_json_file(*s.config_file, "config file"), given);
+  }
+  if (s.fleet_file) {
+    s.fleet = read_json_file(*s.fleet_file, "fleet file");
+    if (!s.fleet.is_array() || s.fleet.empty()) {
+      throw UsageError("fleet file " + *s.fleet_file + " must be a non-empty JSON list of drives");
+    }
+    if (s.drives != 1) throw UsageError("--drives and --fleet cannot be combined (the fleet file lists the drives)");
   }
   return s;
 }
@@ -226,6 +260,15 @@ Usage: mcemu [options]
                       "objects", "model_overrides", "plant", "homing", "slcan", "canopen", "settings"
   --log-level L       trace, debug, info, warn, error, critical, off (default info)
   --max-clients N     simultaneous TCP connections per service (default 8 RefGo/SLCAN, 32 HTTP)
+  --drives N          N independent drives in this process (default 1): drive k listens on
+                      --bind + (k-1) and reports --ip + (k-1), state file drive-k.json
+  --port-step S       with --drives: one bind address, drive k's ports are each port + (k-1)*S
+  --fleet FILE        JSON list of drives, each with its own model, bind, ip, ports and config
+                      sections (docs/fleet.md)
+  --idle-timeout S    close a TCP connection that sent nothing for S seconds (default 0 = off;
+                      TCP keepalive is always on)
+  --clock MODE        real (default: 1 ms steps paced by the wall clock), scaled:X (drive time =
+                      X x wall time, 0.1 <= X <= 1000) or manual (POST /api/v1/clock/advance)
   --dump-od           print the object dictionary of the model as JSON and exit
   --dump-eds          print the model's CANopen EDS (CiA 306) and exit, e.g. for python-canopen
   --version           print the version and exit

@@ -5,12 +5,15 @@
 // UsageError with a one-line message; main prints it and exits with status 2.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "server/clock_mode.hpp"
 
 namespace mcemu::server {
 
@@ -33,6 +36,15 @@ struct Settings {
   std::size_t refgo_max_clients = 8;
   std::size_t slcan_max_clients = 8;
   std::size_t http_max_clients = 32;
+  // Fleets (server/fleet.hpp): --drives N, --port-step S, --fleet FILE (its JSON list in `fleet`).
+  std::size_t drives = 1;
+  std::optional<std::uint32_t> port_step;
+  std::optional<std::string> fleet_file;
+  nlohmann::json fleet = nlohmann::json::array();
+  // --idle-timeout: a TCP connection that sent nothing for this long is closed (0 = off); the line
+  // servers (RefGo, SLCAN) and the HTTP server apply it.
+  std::chrono::seconds idle_timeout{0};
+  ClockMode clock;  // --clock real | scaled:X | manual
   bool dump_od = false;
   bool dump_eds = false;
   bool help = false;

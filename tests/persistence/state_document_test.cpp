@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
 #include "drive/model/model_preset.hpp"
 
 namespace mcemu::persistence {
@@ -144,6 +148,43 @@ TEST(PlantFile, RoundTripAndModelCheck) {
   EXPECT_EQ(parse_plant(t, "MC349_AE"), -40000);
   EXPECT_EQ(parse_plant(t, "MC349"), std::nullopt);
   EXPECT_EQ(parse_plant("{", "MC349_AE"), std::nullopt);
+}
+
+}  // namespace
+}  // namespace mcemu::persistence
+
+namespace mcemu::persistence {
+namespace {
+
+// Hardening (issue 12): a file beyond the size or object-count limit is rejected as corrupt, before
+// (size) or instead of (count) being checked entry by entry.
+TEST(Document, LimitsOfSizeAndObjectCount) {
+  auto od = make("MC349");
+  std::string big = valid_text();
+  big.insert(big.size() - 2, std::string(k_max_state_file_bytes, ' '));  // whitespace: still valid JSON
+  auto r = parse(big, "MC349", od);
+  ASSERT_TRUE(std::holds_alternative<ParseFailure>(r));
+  EXPECT_EQ(std::get<ParseFailure>(r).reason, "larger than 16 MiB");
+
+  const auto with_objects = [](std::size_t n) {
+    nlohmann::json objects = nlohmann::json::object();
+    for (std::size_t i = 0; i < n; ++i) objects[std::to_string(i)] = 0;  // bad keys: not fatal one by one
+    const nlohmann::json payload{{"objects", objects}};
+    std::array<char, 16> crc{};
+    std::snprintf(crc.data(), crc.size(), "0x%08x", crc32(payload.dump()));
+    return nlohmann::json{{"format", "mcemu-drive-state"},
+                          {"format_version", 1},
+                          {"model", "MC349"},
+                          {"payload", payload},
+                          {"payload_crc32", crc.data()}}
+        .dump();
+  };
+  auto many = parse(with_objects(k_max_state_objects + 1), "MC349", od);
+  ASSERT_TRUE(std::holds_alternative<ParseFailure>(many));
+  EXPECT_EQ(std::get<ParseFailure>(many).reason, "more than 65536 objects");
+  auto at_limit = parse(with_objects(k_max_state_objects), "MC349", od);
+  ASSERT_TRUE(std::holds_alternative<ParsedFile>(at_limit));
+  EXPECT_EQ(std::get<ParsedFile>(at_limit).bad_keys.size(), k_max_state_objects);
 }
 
 }  // namespace

@@ -297,5 +297,98 @@ TEST(CanopenBus, HundredKilobytesByBlockTransferAsSlcanLines) {
   EXPECT_EQ(request({0xA1}), "");
 }
 
+// Fault injection at the bus (slcan-canopen.md §11.3): a dropped node frame reaches no session; a
+// held-back one comes out at its wall time, and later frames never overtake it; rawTx reaches every
+// session; bel is asked per line.
+struct FaultRig : Rig {
+  std::chrono::milliseconds wall{1000};
+  std::vector<std::chrono::milliseconds> scheduled;
+  std::vector<std::string> traced;
+  std::vector<web::api::Verdict> verdicts;  // the next frames' verdicts, then "send"
+  int bel = 0;
+  FaultRig() {
+    CanopenBus::Faults f;
+    f.node_frame = [this](const can::Frame&) {
+      if (verdicts.empty()) return web::api::Verdict{};
+      auto v = verdicts.front();
+      verdicts.erase(verdicts.begin());
+      return v;
+    };
+    f.bel = [this] {
+      if (bel == 0) return false;
+      --bel;
+      return true;
+    };
+    f.wall_now = [this] { return wall; };
+    f.schedule = [this](std::chrono::milliseconds due) { scheduled.push_back(due); };
+    f.trace = [this](const std::string& t) { traced.push_back(t); };
+    bus.set_faults(std::move(f));
+  }
+  static web::api::Verdict drop() {
+    web::api::Verdict v;
+    v.action = web::api::Verdict::Action::drop;
+    v.fault_id = "f1";
+    v.kind = web::api::TransportKind::slcan_drop_tx;
+    return v;
+  }
+  static web::api::Verdict delay(std::chrono::milliseconds ms) {
+    web::api::Verdict v;
+    v.action = web::api::Verdict::Action::delay;
+    v.delay = ms;
+    v.fault_id = "f2";
+    v.kind = web::api::TransportKind::slcan_delay_tx;
+    return v;
+  }
+};
+
+TEST(CanopenBusFaults, DroppedFrameReachesNoSession) {
+  FaultRig r;
+  auto a = r.bus.make_session();
+  auto b = r.bus.make_session();
+  r.verdicts = {FaultRig::drop()};
+  a->receive("t63284041600000000000\r");
+  EXPECT_EQ(a->take_output(), "z\r");
+  EXPECT_EQ(b->take_output(), "");
+  ASSERT_EQ(r.traced.size(), 1u);
+  EXPECT_EQ(r.traced[0], "frame t5B284B41600040000000 not sent (fault f1 slcan.dropTx)");
+  a->receive("t63284041600000000000\r");
+  EXPECT_EQ(a->take_output(), "z\rt5B284B41600040000000\r") << "the next frame is sent";
+}
+
+TEST(CanopenBusFaults, HeldBackFramesKeepTheirOrder) {
+  FaultRig r;
+  auto a = r.bus.make_session();
+  r.verdicts = {FaultRig::delay(200ms)};
+  a->receive("t63284041600000000000\r");  // response held back 200 ms
+  a->receive("t6328407a600000000000\r");  // not delayed itself, but queued behind
+  EXPECT_EQ(a->take_output(), "z\rz\r");
+  ASSERT_EQ(r.scheduled.size(), 1u);
+  EXPECT_EQ(r.scheduled[0], 1200ms);
+  r.wall = 1199ms;  // a timer that fired early
+  r.bus.release_delayed();
+  EXPECT_EQ(a->take_output(), "");
+  ASSERT_EQ(r.scheduled.size(), 2u) << "asks again";
+  EXPECT_EQ(r.scheduled[1], 1200ms);
+  r.wall = 1200ms;
+  r.bus.release_delayed();
+  EXPECT_EQ(a->take_output(), "t5B284B41600040000000\rt5B28437A600000000000\r");
+  EXPECT_FALSE(r.bus.next_release());
+  EXPECT_EQ(r.scheduled.size(), 2u) << "nothing left to wait for";
+}
+
+TEST(CanopenBusFaults, RawTextAndBel) {
+  FaultRig r;
+  auto a = r.bus.make_session();
+  auto b = r.bus.make_session();
+  b->receive("C\r");  // closed: rawTx still reaches it
+  EXPECT_EQ(b->take_output(), "\r");
+  r.bus.send_raw("t7321\r");
+  EXPECT_EQ(a->take_output(), "t7321\r");
+  EXPECT_EQ(b->take_output(), "t7321\r");
+  r.bel = 1;
+  a->receive("V\rV\r");
+  EXPECT_EQ(a->take_output(), "\aV1010\r");
+}
+
 }  // namespace
 }  // namespace mcemu::server

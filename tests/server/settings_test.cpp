@@ -23,6 +23,21 @@ TEST(CommandLine, Defaults) {
   EXPECT_EQ(s.refgo_max_clients, 8u);
   EXPECT_EQ(s.slcan_max_clients, 8u);
   EXPECT_EQ(s.http_max_clients, 32u);
+  EXPECT_EQ(s.idle_timeout.count(), 0) << "no idle timeout unless asked for (refgo.md §1.3)";
+}
+
+TEST(CommandLine, IdleTimeoutInSecondsFromFlagAndConfig) {
+  EXPECT_EQ(parse_command_line({"--idle-timeout", "30"}).idle_timeout, std::chrono::seconds(30));
+  EXPECT_EQ(parse_command_line({"--idle-timeout=0"}).idle_timeout, std::chrono::seconds(0));
+  for (const char* key : {"idle-timeout", "idle_timeout"}) {
+    Settings s;
+    apply_config(s, json{{key, 90}}, {});
+    EXPECT_EQ(s.idle_timeout, std::chrono::seconds(90)) << key;
+  }
+  Settings s;
+  s.idle_timeout = std::chrono::seconds(5);
+  apply_config(s, json{{"idle_timeout", 90}}, {"idle-timeout"});
+  EXPECT_EQ(s.idle_timeout, std::chrono::seconds(5)) << "the command line wins";
 }
 
 TEST(CommandLine, AllFlagsBothSpellings) {
@@ -74,7 +89,9 @@ INSTANTIATE_TEST_SUITE_P(
                       Bad{{"--ip", "192.168.2"}, "--ip"}, Bad{{"--ip", "1.2.3.256"}, "--ip"},
                       Bad{{"--bind", "localhost"}, "--bind"}, Bad{{"--log-level", "verbose"}, "--log-level"},
                       Bad{{"--max-clients", "0"}, "--max-clients"}, Bad{{"stray"}, "unexpected argument"},
-                      Bad{{"--help=1"}, "takes no value"}, Bad{{"--config", "/nonexistent/x.json"}, "cannot read"}));
+                      Bad{{"--help=1"}, "takes no value"}, Bad{{"--config", "/nonexistent/x.json"}, "cannot read"},
+                      Bad{{"--idle-timeout", "-1"}, "--idle-timeout"}, Bad{{"--idle-timeout", "1.5"}, "--idle-timeout"},
+                      Bad{{"--idle-timeout", "604801"}, "--idle-timeout"}));
 
 TEST(Config, FlagsWithoutDashesAndCommandLineWins) {
   Settings s;

@@ -1,0 +1,270 @@
+// The clock (server/clock_mode, server/clock_logic; drive-core.md §2.2, README "Time", web.md
+// §8.10): --clock parsing, and the driver's decisions under a fake wall clock — catch-up bounded to
+// 50 full steps per wake-up, quiet stretches in one skip, sleeping until the next needed step,
+// scaled time, the manual-clock advance queue and the script hold.
+#include <gtest/gtest.h>
+
+#include <regex>
+
+#include "server/clock_logic.hpp"
+#include "server/drive_unit.hpp"
+#include "server/settings.hpp"
+#include "tests/sim/fake_target.hpp"
+
+namespace mcemu::server {
+namespace {
+
+using namespace std::chrono_literals;
+using Kind = ClockLogic::Next::Kind;
+using sim::test::FakeTarget;
+using Wall = ClockLogic::Wall;
+
+constexpr Wall ms(double v) { return Wall(static_cast<std::int64_t>(v * 1e6)); }
+
+TEST(ClockMode, Parse) {
+  EXPECT_EQ(parse_clock_mode("real").kind, ClockMode::Kind::real);
+  EXPECT_EQ(parse_clock_mode("real").scale, 1.0);
+  EXPECT_EQ(parse_clock_mode("manual").kind, ClockMode::Kind::manual);
+  EXPECT_EQ(parse_clock_mode("manual").scale, 0.0);
+  for (const auto& [text, x] : std::vector<std::pair<const char*, double>>{
+           {"scaled:0.1", 0.1}, {"scaled:1000", 1000}, {"scaled:2.5", 2.5}, {"scaled:1", 1}, {"scaled:.5", 0.5}}) {
+    const ClockMode m = parse_clock_mode(text);
+    EXPECT_EQ(m.kind, ClockMode::Kind::scaled) << text;
+    EXPECT_DOUBLE_EQ(m.scale, x) << text;
+    EXPECT_STREQ(m.name(), "scaled");
+  }
+  for (const char* bad :
+       {"", "Real", "fast", "scaled", "scaled:", "scaled:0.09", "scaled:1000.1", "scaled:0", "scaled:-1", "scaled:1e2",
+        "scaled:inf", "scaled:nan", "scaled:1.2.3", "scaled:.", "scaled:0x10", "scaled: 2", "manual:1"}) {
+    EXPECT_THROW(parse_clock_mode(bad), std::invalid_argument) << bad;
+  }
+}
+
+TEST(ClockMode, CommandLineAndConfig) {
+  EXPECT_EQ(parse_command_line({}).clock.kind, ClockMode::Kind::real);
+  EXPECT_EQ(parse_command_line({"--clock", "manual"}).clock.kind, ClockMode::Kind::manual);
+  EXPECT_DOUBLE_EQ(parse_command_line({"--clock=scaled:20"}).clock.scale, 20);
+  EXPECT_THROW(parse_command_line({"--clock", "scaled:5000"}), UsageError);
+  EXPECT_THROW(parse_command_line({"--clock"}), UsageError);
+  Settings s;
+  apply_config(s, nlohmann::json{{"clock", "scaled:4"}}, {});
+  EXPECT_DOUBLE_EQ(s.clock.scale, 4);
+  Settings t = parse_command_line({"--clock", "manual"});
+  apply_config(t, nlohmann::json{{"clock", "scaled:4"}}, {"clock"});
+  EXPECT_EQ(t.clock.kind, ClockMode::Kind::manual);  // the command line wins
+  EXPECT_NE(help_text().find("--clock MODE"), std::string::npos);
+}
+
+TEST(ClockLogic, RealTimeRunsOneStepPerElapsedMillisecond) {
+  FakeTarget f;
+  f.busy = true;
+  ClockLogic c(f, {});
+  c.start(ms(1000));
+  auto next = c.on_wake(ms(1005.5));
+  EXPECT_EQ(f.t, 5u);
+  EXPECT_EQ(f.fulls, 5u);
+  ASSERT_EQ(next.kind, Kind::sleep_until);
+  EXPECT_EQ(next.at, ms(1006));
+  next = c.on_wake(ms(1006));
+  EXPECT_EQ(f.t, 6u);
+  EXPECT_EQ(next.at, ms(1007));
+}
+
+TEST(ClockLogic, BehindItRunsAtMost50FullStepsPerWakeUp) {
+  FakeTarget f;
+  f.busy = true;
+  ClockLogic c(f, {});
+  c.start(ms(0));
+  std::vector<std::uint64_t> lags;
+  auto next = c.on_wake(ms(200));
+  while (next.kind == Kind::now) {
+    lags.push_back(next.lag);
+    next = c.on_wake(ms(200));
+  }
+  EXPECT_EQ(lags, (std::vector<std::uint64_t>{150, 100, 50}));
+  EXPECT_EQ(f.t, 200u);
+  EXPECT_EQ(next.kind, Kind::sleep_until);
+  EXPECT_EQ(next.at, ms(201));
+}
+
+TEST(ClockLogic, SleepsUntilTheNextNeededStepAndSkipsTheRestInOneCall) {
+  FakeTarget f;
+  f.needed = {1000, 60000};
+  ClockLogic c(f, {});
+  c.start(ms(0));
+  auto next = c.on_wake(ms(0.3));
+  ASSERT_EQ(next.kind, Kind::sleep_until);
+  EXPECT_EQ(next.at, ms(1000));  // step 1000 is due at 1 s; nothing before it needs a wake-up
+  next = c.on_wake(ms(1000));
+  EXPECT_EQ(f.t, 1000u);
+  EXPECT_EQ(f.full_at, (std::vector<std::uint64_t>{1000}));
+  EXPECT_EQ(f.skips, 1u);
+  EXPECT_EQ(next.at, ms(60000));
+  next = c.on_wake(ms(60000));
+  EXPECT_EQ(next.kind, Kind::wait);  // nothing ever again: sleep until woken
+  // woken late (a loaded machine): the needed step still runs, in drive-time order
+  EXPECT_EQ(f.full_at, (std::vector<std::uint64_t>{1000, 60000}));
+  EXPECT_EQ(c.full_steps(), 2u);
+  EXPECT_EQ(c.ticks(), 60000u);
+}
+
+TEST(ClockLogic, SyncCatchesUpAndMakesTheNextStepFull) {
+  FakeTarget f;
+  ClockLogic c(f, {});
+  c.start(ms(0));
+  EXPECT_EQ(c.on_wake(ms(0)).kind, Kind::wait);
+  const auto next = c.sync(ms(3500.2));
+  EXPECT_EQ(f.t, 3500u);
+  EXPECT_EQ(f.fulls, 0u);
+  EXPECT_TRUE(f.dirty);
+  ASSERT_EQ(next.kind, Kind::sleep_until);
+  EXPECT_EQ(next.at, ms(3501));
+  c.on_wake(ms(3501));
+  EXPECT_EQ(f.full_at, (std::vector<std::uint64_t>{3501}));
+  EXPECT_EQ(c.plan().kind, Kind::wait);
+  EXPECT_EQ(c.touch().kind, Kind::sleep_until);  // wake(): marks the next step, no time passes
+  EXPECT_EQ(f.t, 3501u);
+}
+
+TEST(ClockLogic, ScaledTime) {
+  FakeTarget f;
+  f.busy = true;
+  ClockLogic fast(f, parse_clock_mode("scaled:2.5"));
+  fast.start(ms(0));
+  auto next = fast.on_wake(ms(10));
+  EXPECT_EQ(f.t, 25u);
+  EXPECT_EQ(next.at, ms(10.4));
+  FakeTarget g;
+  g.busy = true;
+  ClockLogic slow(g, parse_clock_mode("scaled:0.1"));
+  slow.start(ms(0));
+  next = slow.on_wake(ms(19.9));
+  EXPECT_EQ(g.t, 1u);
+  EXPECT_EQ(next.at, ms(20));
+}
+
+TEST(ClockLogic, DueAtIsTheFirstInstantAStepIsDue) {
+  for (const char* mode : {"real", "scaled:0.1", "scaled:0.3", "scaled:2.5", "scaled:7", "scaled:1000"}) {
+    FakeTarget f;
+    ClockLogic c(f, parse_clock_mode(mode));
+    c.start(ms(123.456789));
+    for (std::uint64_t k : {1ULL, 2ULL, 3ULL, 10ULL, 999ULL, 123457ULL, 86400000ULL, 10000000000ULL}) {
+      const Wall w = c.due_at(k);
+      EXPECT_GE(c.due(w), k) << mode << " " << k;
+      EXPECT_LT(c.due(w - Wall(1)), k) << mode << " " << k;
+    }
+  }
+}
+
+// due_at() remembers its last answer; a new start (new epoch) must not get the old one.
+TEST(ClockLogic, DueAtAfterARestartFollowsTheNewEpoch) {
+  FakeTarget f;
+  ClockLogic c(f, parse_clock_mode("real"));
+  c.start(ms(0));
+  EXPECT_EQ(c.due_at(5), ms(5));
+  EXPECT_EQ(c.due_at(5), ms(5));
+  c.start(ms(1000));
+  EXPECT_EQ(c.due_at(5), ms(1005));
+  EXPECT_EQ(c.due_at(6), ms(1006));
+}
+
+// The trace's wall stamp: UTC, milliseconds, the same layout every call (formatted in two parts).
+TEST(WallStamp, IsoUtcWithMilliseconds) {
+  const std::regex layout(R"(\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}\.\d{3}Z)");
+  std::string last;
+  for (int i = 0; i < 2000; ++i) {  // crosses at least one change of the millisecond
+    const std::string s = utc_iso8601_ms();
+    ASSERT_TRUE(std::regex_match(s, layout)) << s;
+    EXPECT_GE(s, last);
+    last = s;
+  }
+}
+
+TEST(ClockLogic, ScaledIdleHourIsOneSkip) {
+  FakeTarget f;
+  ClockLogic c(f, parse_clock_mode("scaled:1000"));
+  c.start(ms(0));
+  c.on_wake(ms(3600000));
+  EXPECT_EQ(f.t, 3600000000ULL);
+  EXPECT_LE(f.skips, 1u);
+}
+
+TEST(ClockLogic, ManualRunsOnlyRequestsInSlicesOf50) {
+  FakeTarget f;
+  f.busy = true;
+  ClockLogic c(f, parse_clock_mode("manual"));
+  c.start(ms(0));
+  EXPECT_EQ(c.on_wake(ms(50000)).kind, Kind::wait);
+  EXPECT_EQ(f.t, 0u);  // drive time stands still
+  int done1 = 0;
+  int done2 = 0;
+  ASSERT_TRUE(c.request(120, [&] {
+    ++done1;
+    EXPECT_EQ(f.t, 120u);
+  }));
+  ASSERT_TRUE(c.request(30, [&] {
+    ++done2;
+    EXPECT_EQ(f.t, 150u);
+  }));
+  std::vector<std::uint64_t> after;
+  auto next = c.plan();
+  while (next.kind == Kind::now) {
+    next = c.on_wake(ms(0));
+    after.push_back(f.t);
+  }
+  EXPECT_EQ(after, (std::vector<std::uint64_t>{50, 100, 120, 150}));
+  EXPECT_EQ(done1, 1);
+  EXPECT_EQ(done2, 1);
+  EXPECT_EQ(next.kind, Kind::wait);
+}
+
+TEST(ClockLogic, ManualRefusals) {
+  FakeTarget f;
+  ClockLogic manual(f, parse_clock_mode("manual"));
+  EXPECT_FALSE(manual.request(0, {}));
+  EXPECT_FALSE(manual.request(k_max_advance_ms + 1, {}));
+  EXPECT_TRUE(manual.request(k_max_advance_ms, {}));
+  ClockLogic real(f, {});
+  EXPECT_FALSE(real.request(10, {}));
+  ClockLogic scaled(f, parse_clock_mode("scaled:2"));
+  EXPECT_FALSE(scaled.request(10, {}));
+}
+
+TEST(ClockLogic, ManualHourOfIdleIsOneSlice) {
+  FakeTarget f;
+  f.needed = {7, 1800000};
+  ClockLogic c(f, parse_clock_mode("manual"));
+  c.start(ms(0));
+  bool done = false;
+  ASSERT_TRUE(c.request(3600000, [&] { done = true; }));
+  EXPECT_EQ(c.on_wake(ms(0)).kind, Kind::wait);
+  EXPECT_TRUE(done);
+  EXPECT_EQ(f.full_at, (std::vector<std::uint64_t>{7, 1800000}));
+}
+
+TEST(ClockLogic, ManualHoldPausesAfterTheStepThatWokeTheScript) {
+  FakeTarget f;
+  f.busy = true;
+  ClockLogic c(f, parse_clock_mode("manual"));
+  c.start(ms(0));
+  bool script_running = false;
+  bool woken = false;
+  c.set_hold([&] {
+    if (f.t == 30 && !woken) woken = script_running = true;  // step 30 wakes the script
+    return script_running;
+  });
+  bool done = false;
+  ASSERT_TRUE(c.request(40, [&] { done = true; }));
+  EXPECT_EQ(c.on_wake(ms(0)).kind, Kind::wait);
+  EXPECT_EQ(f.t, 30u);
+  EXPECT_EQ(c.on_wake(ms(0)).kind, Kind::wait);  // still held: nothing runs
+  EXPECT_EQ(f.t, 30u);
+  script_running = false;  // the script sleeps again; the driver's resume() re-plans
+  EXPECT_EQ(c.plan().kind, Kind::now);
+  c.on_wake(ms(0));
+  EXPECT_EQ(f.t, 40u);
+  EXPECT_TRUE(done);
+}
+
+}  // namespace
+}  // namespace mcemu::server
