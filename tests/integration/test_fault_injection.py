@@ -47,7 +47,7 @@ class InjectedFaults(unittest.TestCase):
                 self.assertEqual([f["kind"] for f in listed], ["drive.load"], "the one-shot EMCY removed itself")
                 self.assertEqual(m.http("DELETE", "/api/v1/faults")[0], 200)
                 self.assertEqual(json.loads(m.http("GET", "/api/v1/faults")[1])["faults"], [])
-                self.assertEqual(m.http("POST", "/api/v1/faults", {"kind": "refgo.noReply"})[0], 400)
+                self.assertEqual(m.http("POST", "/api/v1/faults", {"kind": "refgo.gremlins"})[0], 400)
                 self.assertEqual(m.http("POST", "/api/v1/faults", {"kind": "drive.inject"}, "text/plain")[0], 415)
             finally:
                 c.close()
