@@ -132,6 +132,8 @@ def nc_once(port, data, timeout=5.0):
 
 
 def vector_regex(expected):
-    """A refgo.md §14 vector as a compiled regex of bytes: {TP} = a signed decimal."""
+    """A refgo.md §14 vector as a compiled regex of bytes: {TP} = a signed decimal. Anchored at both
+    ends (as matches_vector() of the C++ tests, std::regex_match), so that assertRegex, which
+    searches, cannot accept extra bytes before the reply (b"XYZ\\r\\n?\\r\\n>" is not b">")."""
     parts = expected.split(b"{TP}")
-    return re.compile(b"-?[0-9]+".join(re.escape(p) for p in parts) + b"\\Z", re.S)
+    return re.compile(b"\\A" + b"-?[0-9]+".join(re.escape(p) for p in parts) + b"\\Z", re.S)

@@ -28,8 +28,8 @@ def crc16(data, crc=0):
 class Client:
     """One python-can slcan bus to mcemu, node 50."""
 
-    def __init__(self, port, node=50, **kwargs):
-        self.bus = can.Bus(interface="slcan", channel=f"socket://127.0.0.1:{port}", sleep_after_open=0, **kwargs)
+    def __init__(self, port, node=50, address="127.0.0.1", **kwargs):
+        self.bus = can.Bus(interface="slcan", channel=f"socket://{address}:{port}", sleep_after_open=0, **kwargs)
         self.node = node
         self.frames = []  # every frame received, in order
 
@@ -67,7 +67,7 @@ class Client:
         return out
 
     # --- SDO ---------------------------------------------------------------------------------
-    def sdo(self, request, timeout=1.0):
+    def sdo(self, request, timeout=10.0):  # a bound for a hang, not a speed check (ASan, parallel CI)
         request = bytes(request) + bytes(8 - len(request))
         self.send(0x600 + self.node, request)
         msg = self.recv_until(lambda m: m.arbitration_id == 0x580 + self.node and not m.is_remote_frame, timeout)

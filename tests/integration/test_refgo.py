@@ -13,7 +13,7 @@ import threading
 import time
 import unittest
 
-from mcemu_harness import Mcemu, connect, wait_for
+from mcemu_harness import SANITIZED, Mcemu, connect, fill_trace_ring, wait_for
 from nc_client import Nc, nc_once, vector_regex
 
 
@@ -136,9 +136,9 @@ class Vectors(unittest.TestCase):
             for request, expected in VECTORS_14_5:
                 with self.subTest(request=request):
                     # a fresh emulator state per vector is not needed: each one sets what it reads
-                    out, took = nc_once(m.ports["refgo"], request)
+                    # nc -N returns only once mcemu closes after the FIN (else nc_once times out)
+                    out, _ = nc_once(m.ports["refgo"], request, timeout=30)
                     self.assertRegex(out, vector_regex(expected))
-                    self.assertLess(took, 2.0, "nc -N returns once mcemu closes after the FIN")
 
     def test_statusword_vectors_of_14_4(self):
         with Mcemu() as m, Nc(m.ports["refgo"]) as nc:
@@ -188,13 +188,13 @@ class Framing(unittest.TestCase):
 
     def test_half_close_with_nc(self):
         # §15.10: the lines before the FIN are answered, then mcemu closes; an unterminated line is not.
+        # nc -N exits only when mcemu closes its side, so nc_once returning is the proof (no
+        # wall-clock bound here: tests run in parallel on loaded machines).
         with Mcemu() as m:
-            out, took = nc_once(m.ports["refgo"], b"TP\r\nTS\n")
+            out, _ = nc_once(m.ports["refgo"], b"TP\r\nTS\n", timeout=30)
             self.assertRegex(out, vector_regex(b"TP\r\n{TP}\r\n>TS\r\n0\r\n>"))
-            self.assertLess(took, 1.0)
-            out, took = nc_once(m.ports["refgo"], b"TP")
+            out, _ = nc_once(m.ports["refgo"], b"TP", timeout=30)
             self.assertEqual(out, b"")
-            self.assertLess(took, 1.0)
 
     def test_garbage_and_overlong_lines_keep_the_session(self):
         with Mcemu() as m, Nc(m.ports["refgo"]) as nc:
@@ -270,17 +270,21 @@ class Clients(unittest.TestCase):
                     c.close()
 
     def test_eight_clients_polling_and_a_ninth_refused(self):
-        # §15.6 with the default limit: every client gets only its own replies, in order.
+        # §15.6 with the default limit: every client gets only its own replies, in order. The ninth
+        # connects once all eight have been served (a barrier, not a sleep), and the eight keep
+        # polling until it has been refused and at least 2 s have passed.
         with Mcemu() as m:
             errors = []
-            stop = time.monotonic() + 2.0
+            min_end = time.monotonic() + 2.0
+            connected = threading.Barrier(9, timeout=30)
+            ninth_checked = threading.Event()
 
             def client(k):
                 try:
                     s = connect(m.ports["refgo"])
                     f = s.makefile("rb")
                     i = 0
-                    while time.monotonic() < stop:
+                    while i == 0 or time.monotonic() < min_end or not ninth_checked.is_set():
                         s.sendall(b"OW340F,%d,%d\rOR340F,%d\rTPSR\r" % (k + 1, i, k + 1))
                         want = (b"OW340F,%d,%d\r\nOW340F,%d,%d,OK\r\n>OR340F,%d\r\nOR340F,%d,%d\r\n>"
                                 % (k + 1, i, k + 1, i, k + 1, k + 1, i))
@@ -292,25 +296,34 @@ class Clients(unittest.TestCase):
                         if not tpsr.startswith(b"TPSR\r\n000001") and tpsr != b"TPSR\r\n00000002\r\n>":
                             errors.append((k, tpsr))
                             return
+                        if i == 0:
+                            connected.wait()
                         i += 1
                     s.close()
                 except Exception as e:  # noqa: BLE001 - reported below
                     errors.append((k, repr(e)))
+                    connected.abort()
 
             threads = [threading.Thread(target=client, args=(k,)) for k in range(8)]
             for t in threads:
                 t.start()
-            time.sleep(0.3)  # all eight connected and busy
-            ninth = connect(m.ports["refgo"])
-            ninth.settimeout(1.0)
             try:
-                data = ninth.recv(10)
-            except ConnectionResetError:
-                data = b""
-            self.assertEqual(data, b"")
-            ninth.close()
-            for t in threads:
-                t.join(timeout=10)
+                try:
+                    connected.wait()  # all eight connected and served
+                except threading.BrokenBarrierError:
+                    self.fail(f"a client failed before the ninth connected: {errors}")
+                ninth = connect(m.ports["refgo"])
+                ninth.settimeout(30)
+                try:
+                    data = ninth.recv(10)  # EOF (or a reset): closed without a byte
+                except ConnectionResetError:
+                    data = b""
+                self.assertEqual(data, b"")
+                ninth.close()
+            finally:
+                ninth_checked.set()
+                for t in threads:
+                    t.join(timeout=60)
             self.assertEqual(errors, [])
 
 
@@ -444,6 +457,7 @@ class ClientCompatibility(unittest.TestCase):
                             return int(line.split()[1])
                 return 0
 
+            fill_trace_ring(m.ports["refgo"])
             reader = Nc(m.ports["refgo"])
             reader.request("TP")
             rss0 = rss_kib()
@@ -463,7 +477,8 @@ class ClientCompatibility(unittest.TestCase):
                 self.assertLess(time.monotonic() - t0, 1.0)
             self.assertGreater(sent, 0)
             growth = rss_kib() - rss0
-            self.assertLess(growth, 1024, f"VmRSS grew {growth} KiB: the output queue must stay bounded (§2.6)")
+            if not SANITIZED:  # ASan keeps freed memory in quarantine: RSS says nothing about the queue there
+                self.assertLess(growth, 1024, f"VmRSS grew {growth} KiB: the output queue must stay bounded (§2.6)")
             w.close()
             reader.close()
             # the slot is free again

@@ -6,6 +6,7 @@ import json
 import os
 import struct
 import subprocess
+import time
 import unittest
 
 from mcemu_harness import MCEMU, Mcemu, wait_for
@@ -17,6 +18,29 @@ def dump(model):
     r = subprocess.run([MCEMU, "--dump-od", "--model", model], capture_output=True, text=True, timeout=30)
     assert r.returncode == 0, r.stderr
     return json.loads(r.stdout)["entries"]
+
+
+def stamped_frames(raw, predicate, count, timeout=10.0):
+    """Reads the frame lines of a session that sent Z1 until `count` lines match `predicate`;
+    returns the matching (line, drive-time stamp in ms modulo 60000). Every line read is kept in
+    raw.seen as (line, stamp)."""
+    if not hasattr(raw, "seen"):
+        raw.seen, raw.partial = [], b""
+    found = []
+    deadline = time.monotonic() + timeout
+    while len(found) < count:
+        if time.monotonic() > deadline:
+            raise TimeoutError(f"{len(found)} of {count} frames; last lines {raw.seen[-5:]!r}")
+        raw.partial += raw.read_until(lambda b: b"\r" in b, timeout=max(0.1, deadline - time.monotonic()))
+        *lines, raw.partial = raw.partial.split(b"\r")
+        for line in lines:
+            if not line.startswith(b"t"):
+                continue
+            entry = (line[:-4], int(line[-4:], 16))
+            raw.seen.append(entry)
+            if predicate(entry[0]):
+                found.append(entry)
+    return found
 
 
 class Base(unittest.TestCase):
@@ -207,14 +231,25 @@ class Nmt(Base):
         self.assertIsNotNone(hb)
 
     def test_heartbeat_every_1017h_ms(self):  # HB-02 ★
+        # The period is checked in drive time, from the Z1 timestamps of a second, raw session (every
+        # node frame goes to every session, §3.7), not by counting frames in a wall-clock window.
         c = self.client()
+        r = self.raw()
+        self.assertEqual(r.exchange(b"Z1\r", b"\r"), b"\r")
         c.download(0x1017, 0, struct.pack("<H", 100))
-        beats = c.collect(1.05, lambda m: m.arbitration_id == 0x732)
-        self.assertTrue(9 <= len(beats) <= 11, len(beats))
-        self.assertTrue(all(bytes(m.data) == b"\x7f" for m in beats))
+        stamps = [stamp for _, stamp in stamped_frames(r, lambda line: line.startswith(b"t7321"), count=11)]
+        self.assertEqual([(b - a) % 60000 for a, b in zip(stamps, stamps[1:])], [100] * 10)
         c.download(0x1017, 0, struct.pack("<H", 0))
-        c.collect(0.15)
-        self.assertEqual(c.collect(0.5, lambda m: m.arbitration_id == 0x732), [])
+        # No heartbeat may follow the response to that download (frames reach a session in the
+        # node's order), while drive time goes on for three periods (seen in SDO responses).
+        stopped_at = stamped_frames(r, lambda line: line.startswith(b"t5B2860171000"), count=1)[-1][1]
+        after = len(r.seen)
+        while True:
+            c.upload(0x6041, 0)
+            stamp = stamped_frames(r, lambda line: line.startswith(b"t5B284B4160"), count=1)[-1][1]
+            if (stamp - stopped_at) % 60000 >= 300:
+                break
+        self.assertEqual([l for l, _ in r.seen[after:] if l.startswith(b"t7321")], [], "a heartbeat after 1017h := 0")
 
     def test_grd01_guarding(self):  # GRD-01 ★
         c = self.client()

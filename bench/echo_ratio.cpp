@@ -1,0 +1,166 @@
+// echo_ratio: how close mcemu's TCP path comes to the floor of a minimal server (issue 12).
+//
+// A minimal single-threaded Asio TCP echo server (a child process, like mcemu) and mcemu on
+// loopback, driven by the same closed-loop client (bench/load_client.hpp): RefGo `TP\r` on 1 and
+// 16 connections, an SDO upload of 6041h over SLCAN on 1 connection and HTTP GET /api/v1/status on
+// 1 and 8 keep-alive connections; the echo server gets the
+// same request bytes and sends them back. Rounds alternate mcemu / echo several times; the
+// medians of the rounds are printed with the ratios, and the CPU seconds each server used.
+// Goal: mcemu ≥ 95 % of echo's throughput, p99 ≤ 1.25 × echo's p99.
+//
+// Usage: echo_ratio [path/to/mcemu] [seconds per round, default 3] [rounds, default 5]
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/write.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "bench/load_client.hpp"
+
+namespace asio = boost::asio;
+using tcp = asio::ip::tcp;
+using namespace mcemu::bench;
+
+namespace {
+
+class EchoSession : public std::enable_shared_from_this<EchoSession> {
+ public:
+  explicit EchoSession(tcp::socket s) : socket_(std::move(s)) {}
+  void start() { read(); }
+
+ private:
+  void read() {
+    socket_.async_read_some(asio::buffer(buf_), [self = shared_from_this()](auto ec, std::size_t n) {
+      if (ec) return;
+      asio::async_write(self->socket_, asio::buffer(self->buf_.data(), n), [self](auto wec, std::size_t) {
+        if (!wec) self->read();
+      });
+    });
+  }
+  tcp::socket socket_;
+  std::array<char, 4096> buf_{};
+};
+
+void accept(tcp::acceptor& a) {
+  a.async_accept([&a](auto ec, tcp::socket s) {
+    if (!ec) {
+      s.set_option(tcp::no_delay(true));
+      std::make_shared<EchoSession>(std::move(s))->start();
+    }
+    accept(a);
+  });
+}
+
+// Forks the echo server; returns its port.
+void start_echo(Child& c) {
+  int p[2];
+  if (::pipe(p) != 0) throw std::runtime_error("pipe");
+  c.pid = ::fork();
+  if (c.pid == 0) {
+    asio::io_context io(1);
+    tcp::acceptor a(io, tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
+    const std::uint16_t port = a.local_endpoint().port();
+    if (::write(p[1], &port, sizeof port) != sizeof port) std::_Exit(1);
+    accept(a);
+    io.run();
+    std::_Exit(0);
+  }
+  std::uint16_t port = 0;
+  if (::read(p[0], &port, sizeof port) != sizeof port) throw std::runtime_error("echo server did not start");
+  c.ports["echo"] = port;
+  ::close(p[0]);
+  ::close(p[1]);
+}
+
+struct Scenario {
+  const char* name;
+  const char* service;
+  std::string request;
+  Complete mcemu_complete;
+  int connections;
+};
+
+struct Round {
+  double throughput, p50, p99, cpu_per_request_us;
+};
+
+Round measure(const Child& server, std::uint16_t port, const std::string& request, const Complete& complete,
+              int connections, std::chrono::milliseconds duration) {
+  const double cpu0 = cpu_seconds(server.pid);
+  const Stats st = closed_loop(port, request, complete, connections, duration);
+  const double cpu = cpu_seconds(server.pid) - cpu0;
+  return {st.throughput(), st.percentile(0.50), st.percentile(0.99),
+          st.requests ? cpu / static_cast<double>(st.requests) * 1e6 : 0};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string binary = argc > 1 ? argv[1] : "build/server/mcemu";
+  const auto seconds = std::chrono::milliseconds(argc > 2 ? std::atoi(argv[2]) * 1000 : 3000);
+  const int rounds = argc > 3 ? std::atoi(argv[3]) : 5;
+  const auto state = std::filesystem::temp_directory_path() / ("mcemu-bench-" + std::to_string(::getpid()));
+
+  Child echo;
+  start_echo(echo);
+  Child mcemu;
+  start_mcemu(mcemu, binary, {"--max-clients", "32"}, state.string());
+
+  const Complete refgo_reply = [](const std::string& b) { return !b.empty() && b.back() == '>'; };
+  const Complete sdo_reply = [](const std::string& b) {
+    const auto at = b.find("t5B2");
+    return at != std::string::npos && b.back() == '\r' && b.size() > at + 4;
+  };
+  // An HTTP/1.1 response is complete when its body has Content-Length bytes.
+  const Complete http_reply = [](const std::string& b) {
+    const auto end = b.find("\r\n\r\n");
+    if (end == std::string::npos) return false;
+    const auto at = b.find("Content-Length: ");
+    if (at == std::string::npos || at > end) return false;
+    return b.size() >= end + 4 + std::stoul(b.substr(at + 16));
+  };
+  const std::string status_get = "GET /api/v1/status HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+  const std::vector<Scenario> scenarios = {
+      {"RefGo TP, 1 connection", "refgo", "TP\r", refgo_reply, 1},
+      {"RefGo TP, 16 connections", "refgo", "TP\r", refgo_reply, 16},
+      {"SDO upload 6041h, 1 connection", "slcan", "t63284041600000000000\r", sdo_reply, 1},
+      // the status snapshot (web.md §8.2, ~1.3 KB of JSON) over keep-alive; echo returns only the
+      // request bytes, so this ratio prices the snapshot and the HTTP layer together
+      {"HTTP GET /api/v1/status, 1 conn", "http", status_get, http_reply, 1},
+      {"HTTP GET /api/v1/status, 8 conns", "http", status_get, http_reply, 8},
+  };
+
+  std::printf("echo_ratio: %d rounds of %.1f s per server and scenario, alternating; medians of the rounds\n", rounds,
+              static_cast<double>(seconds.count()) / 1000.0);
+  std::printf("load before: %s\n", load_line().c_str());
+  std::printf("%-32s %-6s %12s %9s %9s %10s\n", "scenario", "server", "requests/s", "p50 us", "p99 us", "cpu us/req");
+  for (const auto& s : scenarios) {
+    std::vector<double> mt, m50, m99, mc, et, e50, e99, ec;
+    for (int r = 0; r < rounds; ++r) {
+      const auto one = [&](bool use_mcemu) {
+        const Child& server = use_mcemu ? mcemu : echo;
+        const std::uint16_t port = use_mcemu ? mcemu.ports.at(s.service) : echo.ports.at("echo");
+        const std::size_t n = s.request.size();
+        const Complete echo_reply = [n](const std::string& b) { return b.size() >= n; };
+        const Round x =
+            measure(server, port, s.request, use_mcemu ? s.mcemu_complete : echo_reply, s.connections, seconds);
+        (use_mcemu ? mt : et).push_back(x.throughput);
+        (use_mcemu ? m50 : e50).push_back(x.p50);
+        (use_mcemu ? m99 : e99).push_back(x.p99);
+        (use_mcemu ? mc : ec).push_back(x.cpu_per_request_us);
+      };
+      // alternate which server goes first, so that a trend in the machine's load hits both
+      one(r % 2 == 0);
+      one(r % 2 != 0);
+    }
+    std::printf("%-32s %-6s %12.0f %9.1f %9.1f %10.2f\n", s.name, "mcemu", median(mt), median(m50), median(m99),
+                median(mc));
+    std::printf("%-32s %-6s %12.0f %9.1f %9.1f %10.2f\n", "", "echo", median(et), median(e50), median(e99), median(ec));
+    std::printf("%-32s %-6s %11.1f%% %9s %8.2fx   (goal: >= 95 %%, p99 <= 1.25x)\n", "", "ratio",
+                100.0 * median(mt) / median(et), "", median(m99) / median(e99));
+  }
+  std::printf("load after: %s\n", load_line().c_str());
+  std::filesystem::remove_all(state);
+  return 0;
+}

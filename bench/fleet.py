@@ -1,0 +1,158 @@
+#!/usr/bin/python3
+"""Fleet benchmark (issue 13): CPU and memory of one mcemu process with N drives, idle and moving
+(every drive in RefGo Back & Forth), and the speed-up of --clock manual (drive time per wall time
+of POST /api/v1/clock/advance with every drive moving). A benchmark: it prints, never asserts.
+
+CPU % of one core = (utime + stime) ticks from /proc/<pid>/stat over WINDOW s / CLK_TCK; VmRSS and
+VmHWM from /proc/<pid>/status; start-up = wall time from exec to the "ready" log line. Each (N,
+mode) is measured ROUNDS times, alternating, and the median printed.
+
+usage: bench/fleet.py [BINARY] [N …]   env: WINDOW (10), ROUNDS (3), ADVANCE_MS (60000), MOVING_MAX (100)
+
+Fleets above MOVING_MAX drives are measured idle only: 1000 moving drives need more than the one
+core of the event loop (about 1.5 µs per drive step), so the simulation falls behind real time
+(logged) and the moving numbers would only say "one core, saturated".
+"""
+import http.client
+import json
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+BINARY = sys.argv[1] if len(sys.argv) > 1 else "build/server/mcemu"
+SIZES = [int(a) for a in sys.argv[2:]] or [1, 10, 100, 1000]
+WINDOW = float(os.environ.get("WINDOW", "10"))
+ROUNDS = int(os.environ.get("ROUNDS", "3"))
+ADVANCE_MS = int(os.environ.get("ADVANCE_MS", "60000"))
+MOVING_MAX = int(os.environ.get("MOVING_MAX", "100"))
+TCK = os.sysconf("SC_CLK_TCK")
+
+
+def ticks(pid):
+    fields = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()
+    return int(fields[11]) + int(fields[12])
+
+
+def status_kib(pid, key):
+    for line in open(f"/proc/{pid}/status"):
+        if line.startswith(key + ":"):
+            return int(line.split()[1])
+    return 0
+
+
+class Fleet:
+    def __init__(self, n, clock="real"):
+        self.state = tempfile.TemporaryDirectory(prefix="fleet-bench-")
+        self.log = open(os.path.join(self.state.name, "log"), "w+")
+        t0 = time.monotonic()
+        self.proc = subprocess.Popen([BINARY, "--drives", str(n), "--refgo-port", "0", "--slcan-port", "0",
+                                      "--http-port", "0", "--udp-port", "0", "--state-dir", self.state.name,
+                                      "--clock", clock, "--max-clients", "8"],
+                                     stdout=self.log, stderr=subprocess.STDOUT)
+        self.http = {}
+        try:
+            self._wait_ready(n, t0)
+        except BaseException:
+            self.proc.kill()
+            self.proc.wait()
+            raise
+
+    def _wait_ready(self, n, t0):
+        while True:
+            self.log.seek(0)
+            text = self.log.read()
+            if " ready" in text or "ready:" in text:
+                break
+            if self.proc.poll() is not None:
+                raise RuntimeError("mcemu exited:\n" + text[-2000:])
+            if time.monotonic() - t0 > 120:
+                raise RuntimeError("no ready line")
+            time.sleep(0.01)
+        self.startup_s = time.monotonic() - t0
+        for _ in range(500):  # the log file may still be catching up with the ready line
+            for m in re.finditer(r"(?:drive (\d+): )?listening: http tcp ([\d.]+):(\d+)", text):
+                self.http[int(m.group(1) or 1)] = (m.group(2), int(m.group(3)))
+            if len(self.http) == n:
+                break
+            time.sleep(0.01)
+            self.log.seek(0)
+            text = self.log.read()
+        if len(self.http) != n:
+            missing = [k for k in range(1, n + 1) if k not in self.http][:3]
+            lines = [l for l in text.splitlines() if any(f"drive {k}: " in l for k in missing)]
+            raise RuntimeError(f"found {len(self.http)} HTTP ports of {n}; drives {missing}: {lines[:12]}")
+
+    def post(self, k, path, body):
+        address, port = self.http[k]
+        c = http.client.HTTPConnection(address, port, timeout=600)
+        c.request("POST", path, body=json.dumps(body), headers={"Content-Type": "application/json"})
+        r = c.getresponse()
+        data = r.read()
+        c.close()
+        if r.status != 200:
+            raise RuntimeError(f"{path}: {r.status} {data!r}")
+        return json.loads(data)
+
+    def start_moving(self):
+        for k in self.http:
+            for line in ("PWC", "SP 5000", "RR 20000"):
+                self.post(k, "/api/v1/refgo", {"line": line})
+
+    def cpu_percent(self, seconds):
+        a = ticks(self.proc.pid)
+        time.sleep(seconds)
+        return (ticks(self.proc.pid) - a) / TCK / seconds * 100
+
+    def close(self):
+        self.proc.terminate()
+        try:
+            self.proc.wait(60)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+        self.log.close()
+        self.state.cleanup()
+
+
+def main():
+    print(f"cpu: {os.cpu_count()} cores, load {open('/proc/loadavg').read().split()[0]}; window {WINDOW} s, "
+          f"{ROUNDS} rounds, medians")
+    print(f"{'drives':>6} {'start s':>8} {'idle %':>8} {'moving %':>9} {'RSS MiB':>8} {'HWM MiB':>8} "
+          f"{'manual x':>9}")
+    for n in SIZES:
+        rows = {"start": [], "idle": [], "moving": [], "rss": [], "hwm": [], "speedup": []}
+        for _ in range(ROUNDS):
+            f = Fleet(n)
+            try:
+                rows["start"].append(f.startup_s)
+                time.sleep(1)
+                rows["idle"].append(f.cpu_percent(WINDOW))
+                if n <= MOVING_MAX:
+                    f.start_moving()
+                    time.sleep(1)
+                    rows["moving"].append(f.cpu_percent(WINDOW))
+                rows["rss"].append(status_kib(f.proc.pid, "VmRSS") / 1024)
+                rows["hwm"].append(status_kib(f.proc.pid, "VmHWM") / 1024)
+            finally:
+                f.close()
+            if n > MOVING_MAX:
+                continue
+            g = Fleet(n, clock="manual")
+            try:
+                g.start_moving()
+                t0 = time.monotonic()
+                g.post(1, "/api/v1/clock/advance", {"ms": ADVANCE_MS})
+                rows["speedup"].append(ADVANCE_MS / 1000 / (time.monotonic() - t0))
+            finally:
+                g.close()
+        med = {k: statistics.median(v) if v else float("nan") for k, v in rows.items()}
+        print(f"{n:>6} {med['start']:>8.2f} {med['idle']:>8.2f} {med['moving']:>9.1f} {med['rss']:>8.1f} "
+              f"{med['hwm']:>8.1f} {med['speedup']:>9.1f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
