@@ -27,7 +27,8 @@ class CommandLine(unittest.TestCase):
 
     def test_invalid_flag_or_value_is_one_line_and_exit_2(self):
         for args in (["--bogus"], ["--model", "MC999"], ["--http-port", "x"], ["--ip", "1.2.3"],
-                     ["--log-level", "loud"], ["--max-clients", "0"]):
+                     ["--log-level", "loud"], ["--max-clients", "0"], ["--clock", "scaled:0.05"],
+                     ["--clock", "scaled:1001"], ["--clock", "fast"], ["--clock", "scaled:"]):
             r = run(*args)
             self.assertEqual(r.returncode, 2, args)
             self.assertEqual(r.stderr.count("\n"), 1, r.stderr)
