@@ -188,6 +188,7 @@ class DriveUnit {
 // "2026-01-15T10:15:02Z", "2026-01-15T10:15:02.123Z" and "20260115T101502Z" of the current UTC time.
 std::string utc_iso8601();
 std::string utc_iso8601_ms();
+std::int64_t unix_ms_now();  // UTC, ms since 1970 (the trace ring's wall clock)
 std::string utc_compact();
 
 // Turns a bind failure into the one start-up line of the spec README (naming the port's flag).

@@ -39,7 +39,7 @@ bool is_api(std::string_view target) { return target.rfind("/api/", 0) == 0; }
 }  // namespace
 
 void DriveUnit::build_web(const asio::ip::address& address) {
-  trace_ = std::make_unique<trace::Ring>(trace::Ring::Clocks{[this] { return core_->time_ms(); }, utc_iso8601_ms});
+  trace_ = std::make_unique<trace::Ring>(trace::Ring::Clocks{[this] { return core_->time_ms(); }, unix_ms_now});
   web::api::Services services;
   services.info = [this] {
     web::api::Info i;

@@ -51,7 +51,7 @@ std::uint64_t Ring::record(Channel channel, Dir dir, std::string text, std::uint
   Event e;
   e.seq = next_seq_++;
   e.time_ms = clocks_.drive_ms ? clocks_.drive_ms() : 0;
-  e.wall = clocks_.wall ? clocks_.wall() : std::string();
+  e.wall_ms = clocks_.wall_ms ? clocks_.wall_ms() : -1;
   e.channel = channel;
   e.dir = dir;
   e.conn = conn;
@@ -87,6 +87,58 @@ Ring::Result Ring::query(const Query& q) const {
   }
   r.next_seq = std::max(since, next_seq_);
   return r;
+}
+
+namespace {
+// Year, month, day of a count of days since 1970-01-01 (proleptic Gregorian; H. Hinnant's
+// civil_from_days).
+struct Civil {
+  std::int64_t y;
+  unsigned m, d;
+};
+Civil civil_from_days(std::int64_t z) {
+  z += 719468;
+  const std::int64_t era = (z >= 0 ? z : z - 146096) / 146097;
+  const auto doe = static_cast<unsigned>(z - era * 146097);
+  const unsigned yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
+  const unsigned doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+  const unsigned mp = (5 * doy + 2) / 153;
+  const unsigned d = doy - (153 * mp + 2) / 5 + 1;
+  const unsigned m = mp < 10 ? mp + 3 : mp - 9;
+  return {static_cast<std::int64_t>(yoe) + era * 400 + (m <= 2 ? 1 : 0), m, d};
+}
+void put_digits(std::string& out, std::int64_t v, int width) {
+  char buf[20];
+  for (int i = width - 1; i >= 0; --i) {
+    buf[i] = static_cast<char>('0' + v % 10);
+    v /= 10;
+  }
+  out.append(buf, static_cast<std::size_t>(width));
+}
+}  // namespace
+
+std::string format_utc_ms(std::int64_t unix_ms) {
+  if (unix_ms < 0) return {};
+  const std::int64_t secs = unix_ms / 1000;
+  const std::int64_t day_secs = secs % 86400;
+  const Civil c = civil_from_days(secs / 86400);
+  std::string out;
+  out.reserve(24);
+  put_digits(out, c.y % 10000, 4);
+  out += '-';
+  put_digits(out, c.m, 2);
+  out += '-';
+  put_digits(out, c.d, 2);
+  out += 'T';
+  put_digits(out, day_secs / 3600, 2);
+  out += ':';
+  put_digits(out, day_secs / 60 % 60, 2);
+  out += ':';
+  put_digits(out, day_secs % 60, 2);
+  out += '.';
+  put_digits(out, unix_ms % 1000, 3);
+  out += 'Z';
+  return out;
 }
 
 std::string hex_bytes(std::string_view bytes) {

@@ -50,7 +50,7 @@ struct Flags {
 struct Event {
   std::uint64_t seq = 0;
   std::uint64_t time_ms = 0;  // drive time
-  std::string wall;           // "2026-01-15T10:15:02.123Z"
+  std::int64_t wall_ms = -1;  // UTC, ms since 1970; -1 = unknown. format_utc_ms() gives the text
   Channel channel = Channel::drive;
   Dir dir = Dir::event;
   std::uint64_t conn = 0;  // 0 = no connection
@@ -65,7 +65,7 @@ class Ring {
 
   struct Clocks {
     std::function<std::uint64_t()> drive_ms;
-    std::function<std::string()> wall;
+    std::function<std::int64_t()> wall_ms;  // UTC, ms since 1970
   };
 
   explicit Ring(Clocks clocks, std::size_t capacity = k_default_capacity);
@@ -100,6 +100,10 @@ class Ring {
   std::uint64_t next_seq_ = 1;
   std::function<void(const Event&)> listener_;
 };
+
+// "2026-01-15T10:15:02.123Z" (ISO 8601, UTC, milliseconds) of a Unix time in ms; "" when negative.
+// Arithmetic only (no gmtime/strftime): events keep the number, readers format it.
+std::string format_utc_ms(std::int64_t unix_ms);
 
 // Hex of a binary payload ("0A1B…", upper case), as web.md §8.6 asks for binary data.
 std::string hex_bytes(std::string_view bytes);

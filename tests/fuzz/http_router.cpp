@@ -67,7 +67,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   fuzz::DriveBundle drive;
   refgo::Interpreter interpreter(drive.od, drive.core);
-  trace::Ring ring(trace::Ring::Clocks{[&] { return drive.core.time_ms(); }, [] { return std::string("t"); }});
+  trace::Ring ring(trace::Ring::Clocks{[&] { return drive.core.time_ms(); }, [] { return std::int64_t{0}; }});
   led::Leds leds;
   leds.power_up(led::address_of(drive.od));
 

@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <utility>
+#include <vector>
+
 namespace mcemu::trace {
 namespace {
 
@@ -15,7 +19,8 @@ Ring::Query since(std::uint64_t seq) {
 
 struct Fixture {
   std::uint64_t now = 0;
-  Ring ring{Ring::Clocks{[this] { return now; }, [] { return std::string("2026-01-15T10:15:02.123Z"); }}, 5};
+  Ring ring{Ring::Clocks{[this] { return now; }, [] { return std::int64_t{1768472102123}; }},
+            5};  // 2026-01-15T10:15:02.123Z
 };
 
 TEST(TraceRing, RecordsWithSequenceAndClocks) {
@@ -30,7 +35,7 @@ TEST(TraceRing, RecordsWithSequenceAndClocks) {
   EXPECT_EQ(r.events[0].conn, 3U);
   EXPECT_EQ(r.events[0].peer, "127.0.0.1:5000");
   EXPECT_EQ(r.events[0].text, "TP\r");
-  EXPECT_EQ(r.events[0].wall, "2026-01-15T10:15:02.123Z");
+  EXPECT_EQ(r.events[0].wall_ms, 1768472102123);
   EXPECT_TRUE(r.events[1].flags.ignored);
   EXPECT_EQ(r.next_seq, 3U);
   EXPECT_EQ(r.dropped, 0U);
@@ -100,6 +105,22 @@ TEST(TraceChannels, Parse) {
     const auto c = static_cast<Channel>(i);
     EXPECT_EQ(channel_from_string(to_string(c)), c);
   }
+}
+
+// Unix ms → ISO 8601 UTC, against dates computed independently (Python's datetime), leap days and
+// century rules included; negative = unknown.
+TEST(TraceWall, FormatUtcMs) {
+  const std::vector<std::pair<std::int64_t, std::string>> cases{
+      {0, "1970-01-01T00:00:00.000Z"},
+      {951868799999, "2000-02-29T23:59:59.999Z"},
+      {951868800000, "2000-03-01T00:00:00.000Z"},
+      {1700000000123, "2023-11-14T22:13:20.123Z"},
+      {1735646400005, "2024-12-31T12:00:00.005Z"},
+      {4107546123045, "2100-03-01T01:02:03.045Z"},
+      {253402300799999, "9999-12-31T23:59:59.999Z"},
+      {-1, ""},
+  };
+  for (const auto& [ms, text] : cases) EXPECT_EQ(format_utc_ms(ms), text) << ms;
 }
 
 TEST(TraceHex, Bytes) { EXPECT_EQ(hex_bytes(std::string("\x00\x1f\xab", 3)), "001FAB"); }

@@ -25,7 +25,7 @@ struct ApiFixture {
         core(preset, od),
         interpreter(od, core),
         ring(trace::Ring::Clocks{[this] { return core.time_ms(); },
-                                 [] { return std::string("2026-01-15T10:15:02.123Z"); }}) {
+                                 [] { return std::int64_t{1768472102123}; }}) {  // 2026-01-15T10:15:02.123Z
     core.power_on();
     services.info = [this] {
       Info i;

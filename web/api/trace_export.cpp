@@ -12,7 +12,7 @@ using nlohmann::json;
 json event_json(const trace::Event& e) {
   json j{{"seq", e.seq},
          {"timeMs", e.time_ms},
-         {"wall", e.wall},
+         {"wall", e.wall_ms >= 0 ? json(trace::format_utc_ms(e.wall_ms)) : json(nullptr)},
          {"channel", trace::to_string(e.channel)},
          {"dir", trace::to_string(e.dir)},
          {"conn", e.conn != 0 ? json(e.conn) : json(nullptr)},
@@ -61,74 +61,17 @@ std::string candump_frame(const can::Frame& f) {
   return out;
 }
 
-namespace {
-
-// Days since 1970-01-01 of a proleptic Gregorian date (H. Hinnant's days_from_civil).
-std::int64_t days_from_civil(std::int64_t y, unsigned m, unsigned d) {
-  y -= m <= 2 ? 1 : 0;
-  const std::int64_t era = (y >= 0 ? y : y - 399) / 400;
-  const auto yoe = static_cast<unsigned>(y - era * 400);
-  const unsigned doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
-  const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-  return era * 146097 + static_cast<std::int64_t>(doe) - 719468;
-}
-
-std::optional<unsigned> digits(std::string_view s, std::size_t pos, std::size_t n) {
-  if (pos + n > s.size()) return std::nullopt;
-  unsigned v = 0;
-  for (std::size_t i = pos; i < pos + n; ++i) {
-    if (s[i] < '0' || s[i] > '9') return std::nullopt;
-    v = v * 10 + static_cast<unsigned>(s[i] - '0');
-  }
-  return v;
-}
-
-}  // namespace
-
-std::optional<EpochTime> parse_utc(std::string_view s) {
-  // YYYY-MM-DDTHH:MM:SS[.fff…]Z
-  const auto y = digits(s, 0, 4), mo = digits(s, 5, 2), d = digits(s, 8, 2);
-  const auto h = digits(s, 11, 2), mi = digits(s, 14, 2), se = digits(s, 17, 2);
-  if (!y || !mo || !d || !h || !mi || !se || s[4] != '-' || s[7] != '-' || s[10] != 'T' || s[13] != ':' ||
-      s[16] != ':' || *mo < 1 || *mo > 12 || *d < 1 || *d > 31 || *h > 23 || *mi > 59 || *se > 60) {
-    return std::nullopt;
-  }
-  std::size_t pos = 19;
-  std::int64_t micros = 0;
-  if (pos < s.size() && s[pos] == '.') {
-    ++pos;
-    std::int64_t scale = 100000;
-    const std::size_t start = pos;
-    while (pos < s.size() && s[pos] >= '0' && s[pos] <= '9') {
-      micros += scale * (s[pos] - '0');
-      scale /= 10;
-      ++pos;
-    }
-    if (pos == start) return std::nullopt;
-  }
-  if (pos + 1 != s.size() || s[pos] != 'Z') return std::nullopt;
-  EpochTime t;
-  t.seconds = days_from_civil(*y, *mo, *d) * 86400 + *h * 3600 + *mi * 60 + *se;
-  t.micros = micros;
-  return t;
-}
-
 std::string candump_log(std::span<const trace::Event> events, std::string_view interface_name) {
   std::string out;
   for (const auto& e : events) {
     if (e.channel != trace::Channel::slcan || e.dir == trace::Dir::event || e.flags.overlong) continue;
     const auto frame = frame_of_slcan_line(e.text);
     if (!frame) continue;
-    EpochTime t;
-    if (const auto wall = parse_utc(e.wall)) {
-      t = *wall;
-    } else {
-      t.seconds = static_cast<std::int64_t>(e.time_ms / 1000);
-      t.micros = static_cast<std::int64_t>(e.time_ms % 1000) * 1000;
-    }
+    // the wall time, or the drive time for an event without one
+    const std::int64_t ms = e.wall_ms >= 0 ? e.wall_ms : static_cast<std::int64_t>(e.time_ms);
     std::array<char, 48> stamp{};
-    std::snprintf(stamp.data(), stamp.size(), "(%lld.%06lld) ", static_cast<long long>(t.seconds),
-                  static_cast<long long>(t.micros));
+    std::snprintf(stamp.data(), stamp.size(), "(%lld.%06lld) ", static_cast<long long>(ms / 1000),
+                  static_cast<long long>(ms % 1000 * 1000));
     out += stamp.data();
     out += interface_name;
     out += ' ';
@@ -163,7 +106,7 @@ std::string render_control(std::string_view text) {
 std::string text_log(std::span<const trace::Event> events) {
   std::string out;
   for (const auto& e : events) {
-    out += e.wall.empty() ? "-" : e.wall;
+    out += e.wall_ms >= 0 ? trace::format_utc_ms(e.wall_ms) : std::string("-");
     out += ' ';
     out += std::to_string(e.time_ms);
     out += ' ';

@@ -29,16 +29,8 @@ std::optional<can::Frame> frame_of_slcan_line(std::string_view line);
 // "123#DEADBEEF", "12345678#00", "123#R", "123#R4"
 std::string candump_frame(const can::Frame& f);
 
-// Seconds and microseconds since 1970 of an ISO 8601 UTC time "2026-01-15T10:15:02.123Z"
-// (fraction optional); nullopt if it is not one.
-struct EpochTime {
-  std::int64_t seconds = 0;
-  std::int64_t micros = 0;
-};
-std::optional<EpochTime> parse_utc(std::string_view iso);
-
 // The candump log of the frames among `events` (other events are skipped). The time of a line is
-// the event's wall time; an event without a readable wall time uses its drive time instead.
+// the event's wall time; an event without one uses its drive time instead.
 std::string candump_log(std::span<const trace::Event> events, std::string_view interface_name = "can0");
 
 // "OR6041,0,h<CR>": CR, LF and TAB as <CR>, <LF>, <TAB>, other control bytes as <XX> (hex).
