@@ -105,7 +105,13 @@ inline void start_mcemu(Child& c, const std::string& binary, const std::vector<s
 }
 
 // CPU time (user + system) of a process so far, in seconds.
-inline double cpu_seconds(pid_t pid) {
+// A process's CPU time from /proc/PID/stat, in seconds: user and system separately.
+struct CpuTimes {
+  double user = 0, system = 0;
+  double total() const { return user + system; }
+};
+
+inline CpuTimes cpu_times(pid_t pid) {
   std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
   std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const auto close = s.rfind(')');
@@ -116,8 +122,11 @@ inline double cpu_seconds(pid_t pid) {
     if (i == 14) utime = std::stoul(f);
     if (i == 15) stime = std::stoul(f);
   }
-  return static_cast<double>(utime + stime) / static_cast<double>(::sysconf(_SC_CLK_TCK));
+  const auto tick = static_cast<double>(::sysconf(_SC_CLK_TCK));
+  return {static_cast<double>(utime) / tick, static_cast<double>(stime) / tick};
 }
+
+inline double cpu_seconds(pid_t pid) { return cpu_times(pid).total(); }
 
 struct Stats {
   std::uint64_t requests = 0;

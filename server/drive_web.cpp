@@ -144,8 +144,8 @@ void DriveUnit::build_web(const asio::ip::address& address) {
     sync();
     const std::string line =
         a.method.empty() ? std::string("(unreadable request)") : std::string(a.method) + " " + std::string(a.target);
-    trace_->record(trace::Channel::http, trace::Dir::rx, line, a.conn, std::string(a.peer));
-    trace_->record(trace::Channel::http, trace::Dir::tx, std::to_string(a.status), a.conn, std::string(a.peer));
+    trace_->record(trace::Channel::http, trace::Dir::rx, line, a.conn, a.peer);
+    trace_->record(trace::Channel::http, trace::Dir::tx, std::to_string(a.status), a.conn, a.peer);
     // morse-led.md §5.1/§5.2: a connection counts for LINK/ACT from its first page request on;
     // page requests flicker the LED, /api/ requests do not.
     if (a.method.empty() || is_api(a.target)) return;
@@ -156,7 +156,7 @@ void DriveUnit::build_web(const asio::ip::address& address) {
   observer.opened = [this, alive = std::weak_ptr<DriveUnit*>(self_)](std::uint64_t conn, std::string_view peer) {
     if (!alive.lock()) return;
     sync();
-    trace_->record(trace::Channel::http, trace::Dir::event, "connect", conn, std::string(peer));
+    trace_->record(trace::Channel::http, trace::Dir::event, "connect", conn, peer);
   };
   observer.closed = [this, alive = std::weak_ptr<DriveUnit*>(self_)](std::uint64_t conn) {
     if (!alive.lock()) return;

@@ -46,22 +46,30 @@ std::optional<ChannelSet> parse_channels(std::string_view text) {
 Ring::Ring(Clocks clocks, std::size_t capacity)
     : clocks_(std::move(clocks)), capacity_(std::max<std::size_t>(capacity, 1)) {}
 
-std::uint64_t Ring::record(Channel channel, Dir dir, std::string text, std::uint64_t conn, std::string peer,
+std::uint64_t Ring::record(Channel channel, Dir dir, std::string text, std::uint64_t conn, std::string_view peer,
                            Flags flags) {
-  Event e;
-  e.seq = next_seq_++;
-  e.time_ms = clocks_.drive_ms ? clocks_.drive_ms() : 0;
-  e.wall_ms = clocks_.wall_ms ? clocks_.wall_ms() : -1;
-  e.channel = channel;
-  e.dir = dir;
-  e.conn = conn;
-  e.peer = std::move(peer);
-  e.text = std::move(text);
-  e.flags = flags;
-  if (events_.size() == capacity_) events_.pop_front();
-  events_.push_back(std::move(e));
-  if (listener_) listener_(events_.back());
-  return events_.back().seq;
+  Event* e = nullptr;
+  if (events_.size() < capacity_) {
+    // grow by doubling, but never past capacity_ (the vector's own doubling would overshoot it)
+    if (events_.size() == events_.capacity())
+      events_.reserve(std::min(capacity_, std::max<std::size_t>(16, 2 * events_.size())));
+    e = &events_.emplace_back();
+  } else {
+    e = &events_[head_];
+    head_ = (head_ + 1) % events_.size();
+  }
+  e->seq = next_seq_++;
+  e->time_ms = clocks_.drive_ms ? clocks_.drive_ms() : 0;
+  e->wall_ms = clocks_.wall_ms ? clocks_.wall_ms() : -1;
+  e->channel = channel;
+  e->dir = dir;
+  e->conn = conn;
+  e->peer.assign(peer);
+  e->text = std::move(text);
+  e->flags = flags;
+  const std::uint64_t seq = e->seq;
+  if (listener_) listener_(*e);
+  return seq;
 }
 
 Ring::Result Ring::query(const Query& q) const {
@@ -72,12 +80,12 @@ Ring::Result Ring::query(const Query& q) const {
     r.dropped = since < next_seq_ ? next_seq_ - since : 0;
     return r;
   }
-  const std::uint64_t oldest = events_.front().seq;
+  const std::uint64_t oldest = at(0).seq;
   if (since < oldest) r.dropped = oldest - since;
   // seq is contiguous inside the ring, so the first wanted event is found by arithmetic.
   std::size_t i = since > oldest ? static_cast<std::size_t>(since - oldest) : 0;
   for (; i < events_.size(); ++i) {
-    const Event& e = events_[i];
+    const Event& e = at(i);
     if (!q.channels.contains(e.channel)) continue;
     if (r.events.size() == q.limit) {
       r.next_seq = e.seq;  // the first event not returned

@@ -71,7 +71,10 @@ class Ring {
   explicit Ring(Clocks clocks, std::size_t capacity = k_default_capacity);
 
   // Appends one event (seq, time and wall filled in here) and returns its seq.
-  std::uint64_t record(Channel channel, Dir dir, std::string text, std::uint64_t conn = 0, std::string peer = {},
+  // The ring's storage is reused once it is full: the oldest slot is overwritten in place, so a
+  // steady stream of events allocates nothing (no deque blocks, and `peer` is copied into the
+  // slot's own string).
+  std::uint64_t record(Channel channel, Dir dir, std::string text, std::uint64_t conn = 0, std::string_view peer = {},
                        Flags flags = {});
 
   struct Query {
@@ -96,7 +99,10 @@ class Ring {
  private:
   Clocks clocks_;
   std::size_t capacity_;
-  std::deque<Event> events_;
+  // Grows to capacity_, then circular: events_[head_] is the oldest event.
+  const Event& at(std::size_t i) const { return events_[(head_ + i) % events_.size()]; }
+  std::vector<Event> events_;
+  std::size_t head_ = 0;
   std::uint64_t next_seq_ = 1;
   std::function<void(const Event&)> listener_;
 };

@@ -50,11 +50,14 @@ inline constexpr IntRange k_any{-9999999999LL, 9999999999LL};  // no range of it
 inline constexpr IntRange k_i32{-2147483648LL, 2147483647LL};
 inline constexpr IntRange k_u32{0, 4294967295LL};
 
-// One line being executed. `later` delivers the outcome of a handler that returned pending.
+// One line being executed. A handler that may return pending takes completion(): it delivers the
+// final outcome as the line's late reply. Built on demand (a copy of the line and of the caller's
+// reply function), so the commands that never go pending allocate nothing for it.
 struct Call {
   const Lexed& line;
   std::optional<std::int64_t> arg;  // the integer argument, when the shape has one and it was given
-  std::function<void(Outcome)> later;
+  const std::function<void(std::string reply)>* late = nullptr;  // the caller's; may be null or empty
+  std::function<void(const Outcome&)> completion() const;        // defined in interpreter.cpp
 };
 
 using Handler = Outcome (*)(Interpreter&, const Call&);

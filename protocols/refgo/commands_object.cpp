@@ -53,9 +53,9 @@ Outcome object_write(Interpreter& in, const Call& c) {
     return code == od::AbortCode::none ? Outcome::answer(prefix + ",OK") : Outcome::error(code, prefix);
   };
   // Store/Restore answer `pending` and complete when the file is durable (refgo.md §2.5).
-  const auto code = in.od().write(static_cast<std::uint16_t>(w->index), static_cast<std::uint8_t>(w->sub),
-                                  od::Value{w->value}, od::Origin::refgo,
-                                  [later = c.later, result](od::AbortCode final_code) { later(result(final_code)); });
+  const auto code = in.od().write(
+      static_cast<std::uint16_t>(w->index), static_cast<std::uint8_t>(w->sub), od::Value{w->value}, od::Origin::refgo,
+      [later = c.completion(), result](od::AbortCode final_code) { later(result(final_code)); });
   if (code == od::AbortCode::pending) return Outcome::pending();
   return result(code);
 }

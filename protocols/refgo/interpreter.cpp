@@ -59,22 +59,25 @@ void Interpreter::reset() {
   programs_.stop_all();
 }
 
-std::optional<std::string> Interpreter::execute(std::string_view text, Later later) {
-  // The Lexed line must outlive a pending handler, so it is shared with the completion.
-  auto line = std::make_shared<const Lexed>(lex(text));
-  if (line->blank()) return std::string(k_prompt);
-  const CommandRow* row = find_command(line->word());
+std::function<void(const Outcome&)> Call::completion() const {
+  if (late == nullptr || !*late) return [](const Outcome&) {};
+  // the completion may run after the line is gone: it keeps its own copy
+  return [line = line, late = *late](const Outcome& o) { late(format(line, o)); };
+}
+
+std::optional<std::string> Interpreter::execute(std::string_view text, const Later& later) {
+  const Lexed line = lex(text);
+  if (line.blank()) return std::string(k_prompt);
+  const CommandRow* row = find_command(line.word());
   if (row == nullptr) return std::string(k_prompt);
 
   std::optional<std::int64_t> arg;
-  if (auto bad = check_argument(*row, *line, arg)) return format(*line, *bad);
+  if (auto bad = check_argument(*row, line, arg)) return format(line, *bad);
 
-  Call call{*line, arg, [line, later = std::move(later)](const Outcome& o) {
-              if (later) later(format(*line, o));
-            }};
+  const Call call{line, arg, &later};
   const Outcome o = row->handler(*this, call);
   if (o.kind == Outcome::Kind::pending) return std::nullopt;
-  return format(*line, o);
+  return format(line, o);
 }
 
 }  // namespace mcemu::refgo

@@ -49,7 +49,8 @@ class Interpreter {
   Interpreter& operator=(const Interpreter&) = delete;
 
   // One line as delivered by the line assembler (control bytes already removed, not over-long).
-  std::optional<std::string> execute(std::string_view line, Later later = {});
+  // `later` is copied only by a command that goes pending (OW of Store/Restore).
+  std::optional<std::string> execute(std::string_view line, const Later& later = {});
 
   // After every core step: the jog timer and the Back & Forth generator.
   void on_step() { programs_.on_step(); }

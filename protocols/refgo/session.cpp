@@ -13,6 +13,9 @@ Session::Session(Interpreter& interpreter)
     : interpreter_(interpreter),
       assembler_(k_max_line, filter_byte),
       self_(std::make_shared<Session*>(this)),
+      late_([weak = std::weak_ptr<Session*>(self_)](const std::string& late) {
+        if (auto alive = weak.lock(); alive && *alive) (*alive)->on_late_reply(late);
+      }),
       registration_(interpreter.attachment().add_connection([this](std::string_view bytes) {
         emit(std::string(bytes));
         wake();
@@ -22,9 +25,9 @@ Session::~Session() { *self_ = nullptr; }
 
 void Session::receive(std::string_view bytes) {
   if (closed_) return;
-  std::vector<line::Line> lines;
-  assembler_.feed(bytes, lines);
-  for (auto& l : lines) {
+  lines_.clear();
+  assembler_.feed(bytes, lines_);
+  for (auto& l : lines_) {
     if (observer_.received) observer_.received(l);
     queue_.push_back(std::move(l));
   }
@@ -49,10 +52,7 @@ void Session::run() {
     }
     const Route route = interpreter_.attachment().route(l.text);
     if (route.execute) {
-      std::weak_ptr<Session*> weak = self_;
-      auto r = interpreter_.execute(l.text, [weak](const std::string& late) {
-        if (auto alive = weak.lock(); alive && *alive) (*alive)->on_late_reply(late);
-      });
+      auto r = interpreter_.execute(l.text, late_);
       if (r) {
         emit(std::move(*r));
       } else {

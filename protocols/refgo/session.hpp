@@ -21,6 +21,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "protocols/line/line_assembler.hpp"
 #include "protocols/line/stream_session.hpp"
@@ -66,7 +67,9 @@ class Session final : public line::StreamSession {
   ReplySink sink_;
   bool waiting_ = false;
   bool closed_ = false;
-  std::shared_ptr<Session*> self_;  // late replies check this is still alive
+  std::shared_ptr<Session*> self_;         // late replies check this is still alive
+  std::function<void(std::string)> late_;  // the late-reply function every executed line gets (checks self_)
+  std::vector<line::Line> lines_;          // receive()'s scratch: the complete lines of one chunk
   std::unique_ptr<Attachment::Registration> registration_;
 };
 
