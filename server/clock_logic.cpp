@@ -18,6 +18,8 @@ void ClockLogic::start(Wall now) {
 // long double: exact for the nanosecond counts of any realistic uptime (64-bit mantissa)
 std::uint64_t ClockLogic::due(Wall now) const {
   if (mode_.kind == ClockMode::Kind::manual || now <= epoch_) return 0;
+  // real time (every client input asks): whole milliseconds, no floating point
+  if (mode_.scale == 1.0) return static_cast<std::uint64_t>((now - epoch_).count()) / 1'000'000U;
   const long double ms =
       static_cast<long double>((now - epoch_).count()) / 1e6L * static_cast<long double>(mode_.scale);
   return static_cast<std::uint64_t>(std::floor(ms));

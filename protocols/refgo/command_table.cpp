@@ -1,5 +1,6 @@
 // The RefGo command table (refgo.md §6): one row per command word.
 #include <array>
+#include <cstdint>
 
 #include "protocols/refgo/commands.hpp"
 
@@ -39,13 +40,42 @@ constexpr std::array k_table{
     CommandRow{"WT", ArgShape::required_int, k_u32, cmd::wait_time},
 };
 
+// Every command word has 1–4 letters, so a word packs into one integer (first letter in the top
+// byte; a shorter word leaves low zero bytes) and the lookup compares integers, not strings: it runs
+// for every line a client sends.
+constexpr std::size_t k_max_word = 4;
+
+constexpr std::uint32_t pack(std::string_view word) {
+  std::uint32_t key = 0;
+  for (std::size_t i = 0; i < k_max_word; ++i) {
+    key = key << 8U | (i < word.size() ? static_cast<unsigned char>(word[i]) : 0U);
+  }
+  return key;
+}
+
+constexpr auto k_keys = [] {
+  std::array<std::uint32_t, k_table.size()> keys{};
+  for (std::size_t i = 0; i < k_table.size(); ++i) keys[i] = pack(k_table[i].word);
+  return keys;
+}();
+
+constexpr bool words_fit() {
+  for (const auto& row : k_table) {
+    if (row.word.empty() || row.word.size() > k_max_word) return false;
+  }
+  return true;
+}
+static_assert(words_fit(), "find_command packs words of 1-4 letters");
+
 }  // namespace
 
 std::span<const CommandRow> command_table() { return k_table; }
 
 const CommandRow* find_command(std::string_view word) {
-  for (const auto& row : k_table) {
-    if (row.word == word) return &row;
+  if (word.empty() || word.size() > k_max_word) return nullptr;
+  const std::uint32_t key = pack(word);
+  for (std::size_t i = 0; i < k_keys.size(); ++i) {
+    if (k_keys[i] == key) return &k_table[i];
   }
   return nullptr;
 }

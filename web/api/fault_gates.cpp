@@ -15,19 +15,24 @@ Verdict decided(const TransportFaults& faults, Verdict::Action action, std::uint
 
 }  // namespace
 
+// Every reply, frame and datagram asks: with no injection active (the usual case) the answer is
+// "send" without looking for each kind.
 Verdict refgo_reply_verdict(TransportFaults& faults) {
+  if (faults.active().empty()) return {};
   if (faults.take_refgo_no_reply()) return decided(faults, Verdict::Action::drop);
   if (const auto ms = faults.refgo_delay_ms()) return decided(faults, Verdict::Action::delay, *ms);
   return {};
 }
 
 Verdict node_frame_verdict(TransportFaults& faults, std::uint32_t cob_id) {
+  if (faults.active().empty()) return {};
   if (faults.slcan_drop(cob_id)) return decided(faults, Verdict::Action::drop);
   if (const auto ms = faults.slcan_delay_ms()) return decided(faults, Verdict::Action::delay, *ms);
   return {};
 }
 
 Verdict udp_datagram_verdict(TransportFaults& faults) {
+  if (faults.active().empty()) return {};
   if (faults.take_udp_drop()) return decided(faults, Verdict::Action::drop);
   return {};
 }

@@ -4,7 +4,13 @@
 // LineServer instantiates it with tcp::socket.
 //
 // Stream: Asio's AsyncReadStream + AsyncWriteStream (get_executor, async_read_some,
-// async_write_some) plus shutdown(shutdown_type, ec) and close(ec), as tcp::socket has.
+// async_write_some) plus non_blocking(bool, ec), write_some(buffers, ec), shutdown(shutdown_type,
+// ec) and close(ec), as tcp::socket has.
+//
+// Writes: replies are first written directly (one non-blocking write_some, in the handler that
+// produced them); only what the kernel does not take at once — a peer that reads slowly — goes
+// through async_write. A request-reply exchange thus costs one read and one write call and no
+// write handler on the event loop (refgo.md §15.2: one write call per reply).
 // Lifetime: owned through shared_ptr by the server's connection set until close(); async handlers
 // hold a shared_ptr. Threading: the executor's single thread only.
 #pragma once
@@ -68,6 +74,9 @@ class LineConnection final : public LineConnectionBase, public std::enable_share
 
   void start(std::unique_ptr<StreamSession> session) {
     session_ = std::move(session);
+    boost::system::error_code ec;
+    stream_.non_blocking(true, ec);  // a direct write must never block the loop
+    direct_writes_ = !ec;
     std::weak_ptr<LineConnection> weak = this->shared_from_this();
     session_->set_wake([weak] {
       if (auto self = weak.lock()) self->on_session_output();
@@ -156,11 +165,31 @@ class LineConnection final : public LineConnectionBase, public std::enable_share
 
   void do_write() {
     if (writing_ || pending_.empty() || closed_) return;
+    if (direct_writes_ && !write_directly()) return;
     writing_ = true;
     in_flight_.swap(pending_);
     boost::asio::async_write(
         stream_, boost::asio::buffer(in_flight_),
         [self = this->shared_from_this()](const boost::system::error_code& ec, std::size_t) { self->on_write(ec); });
+  }
+
+  // One non-blocking write of everything pending. Returns true if bytes are left for async_write
+  // (the kernel's send buffer is full); false when all went out or the connection was closed.
+  bool write_directly() {
+    boost::system::error_code ec;
+    const std::size_t n = stream_.write_some(boost::asio::buffer(pending_), ec);
+    if (ec && ec != boost::asio::error::would_block && ec != boost::asio::error::try_again) {
+      spdlog::debug("{}: {} disconnected while writing ({})", options_.name, peer_.address, ec.message());
+      close();
+      return false;
+    }
+    if (n < pending_.size()) {
+      pending_.erase(0, n);
+      return true;
+    }
+    pending_.clear();
+    if (read_paused_for_backlog_ && backlog() < options_.resume_below) read_paused_for_backlog_ = false;
+    return false;
   }
 
   void on_write(const boost::system::error_code& ec) {
@@ -225,6 +254,7 @@ class LineConnection final : public LineConnectionBase, public std::enable_share
   bool peer_eof_ = false;
   bool closed_ = false;
   bool read_paused_for_backlog_ = false;
+  bool direct_writes_ = false;  // the stream is in non-blocking mode
 };
 
 }  // namespace mcemu::line::net

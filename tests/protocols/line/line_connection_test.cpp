@@ -22,8 +22,10 @@ namespace {
 namespace asio = boost::asio;
 using namespace std::chrono_literals;
 
-// Both ends of the fake socket: what the test sends, what the adapter wrote (one entry per
-// async_write_some call), and switches to hold writes back (a peer that does not read).
+// Both ends of the fake socket: what the test sends, what the adapter wrote (one entry per write
+// call that wrote bytes: write_some or async_write_some), and switches to hold writes back (a peer
+// that does not read: write_some would block, async writes wait) or to let write_some take only
+// part of the bytes (a nearly full send buffer).
 struct Wire {
   explicit Wire(asio::io_context& context) : io(context) {}
   asio::io_context& io;
@@ -33,6 +35,10 @@ struct Wire {
   std::vector<std::string> writes;
   bool hold_writes = false;
   std::deque<std::function<void()>> held;  // completions of held writes
+  bool hold_async = false;                 // hold async writes only (write_some still works)
+  std::size_t direct_limit = SIZE_MAX;     // bytes one write_some takes at most
+  int direct_calls = 0;                    // write_some calls, including those that would block
+  int async_calls = 0;                     // async_write_some calls
   bool eof = false;
   bool closed = false;
 
@@ -57,6 +63,7 @@ struct Wire {
   }
   void release_writes() {
     hold_writes = false;
+    hold_async = false;
     while (!held.empty()) {
       auto h = std::move(held.front());
       held.pop_front();
@@ -79,15 +86,31 @@ class FakeStream {
     wire_->read = [h](const boost::system::error_code& ec, std::size_t n) { (*h)(ec, n); };
     wire_->deliver();
   }
+  void non_blocking(bool mode, boost::system::error_code&) { non_blocking_ = mode; }
+  template <class ConstBuffers>
+  std::size_t write_some(const ConstBuffers& buffers, boost::system::error_code& ec) {
+    EXPECT_TRUE(non_blocking_) << "a direct write on a blocking socket could stall the loop";
+    ++wire_->direct_calls;
+    if (wire_->hold_writes || wire_->direct_limit == 0) {
+      ec = asio::error::would_block;
+      return 0;
+    }
+    std::string bytes(std::min(asio::buffer_size(buffers), wire_->direct_limit), '\0');
+    asio::buffer_copy(asio::buffer(bytes), buffers);
+    wire_->writes.push_back(bytes);
+    ec = {};
+    return bytes.size();
+  }
   template <class ConstBuffers, class Handler>
   void async_write_some(const ConstBuffers& buffers, Handler&& handler) {
+    ++wire_->async_calls;
     std::string bytes(asio::buffer_size(buffers), '\0');
     asio::buffer_copy(asio::buffer(bytes), buffers);
     const std::size_t n = bytes.size();
     wire_->writes.push_back(std::move(bytes));
     auto h = std::make_shared<std::decay_t<Handler>>(std::forward<Handler>(handler));
     auto complete = [this, h, n] { asio::post(wire_->io, [h, n] { (*h)(boost::system::error_code{}, n); }); };
-    if (wire_->hold_writes) {
+    if (wire_->hold_writes || wire_->hold_async) {
       wire_->held.push_back(complete);
     } else {
       complete();
@@ -98,6 +121,7 @@ class FakeStream {
 
  private:
   Wire* wire_;
+  bool non_blocking_ = false;
 };
 
 // A state-file storage whose writes complete when the test says so.
@@ -158,6 +182,45 @@ TEST(LineConnection, EveryReplyIsExactlyOneWriteCall) {
     if (i % 10 == 0) f.drive.step();
   }
   EXPECT_EQ(f.wire.writes.size(), 1000U);
+  // each went out directly from the handler that read the request: no async write, no handler
+  EXPECT_EQ(f.wire.direct_calls, 1000);
+  EXPECT_EQ(f.wire.async_calls, 0);
+}
+
+// A send buffer that takes only part of a reply: the rest follows through async_write, in order,
+// and a reply produced meanwhile waits behind it instead of being written directly before it.
+TEST(LineConnection, WhatTheKernelDoesNotTakeAtOnceFollowsAsynchronouslyInOrder) {
+  Fixture f;
+  f.wire.direct_limit = 5;
+  f.wire.hold_async = true;
+  EXPECT_EQ(f.exchange("TS\rTPSR\r"), (std::vector<std::string>{"TS\r\n0", "\r\n>TPSR\r\n00000002\r\n>"}));
+  EXPECT_EQ(f.wire.async_calls, 1);
+  // the rest is still being written: the next reply queues behind it, nothing is written directly
+  EXPECT_TRUE(f.exchange("TS\r").empty());
+  EXPECT_EQ(f.wire.direct_calls, 1);
+  f.wire.release_writes();
+  f.run();
+  std::string all;
+  for (const auto& w : f.wire.writes) all += w;
+  EXPECT_EQ(all, "TS\r\n0\r\n>TPSR\r\n00000002\r\n>TS\r\n0\r\n>");
+  EXPECT_EQ(f.wire.direct_calls, 2);  // after the async write: direct again (5 bytes, then async)
+  EXPECT_FALSE(f.closed);
+}
+
+// A peer whose send buffer is full: the direct write would block (nothing written), the reply
+// goes to an async write that completes when the peer reads; the next reply is direct again.
+TEST(LineConnection, AWriteThatWouldBlockWaitsForThePeer) {
+  Fixture f;
+  f.wire.hold_writes = true;
+  EXPECT_EQ(f.exchange("TS\r"), std::vector<std::string>{"TS\r\n0\r\n>"});  // handed to async_write_some
+  EXPECT_EQ(f.wire.direct_calls, 1);
+  EXPECT_EQ(f.wire.async_calls, 1);
+  EXPECT_EQ(f.wire.held.size(), 1U);  // not completed while the peer does not read
+  f.wire.release_writes();
+  f.run();
+  EXPECT_EQ(f.exchange("TP\r"), std::vector<std::string>{"TP\r\n0\r\n>"});
+  EXPECT_EQ(f.wire.direct_calls, 2);
+  EXPECT_EQ(f.wire.async_calls, 1);
 }
 
 TEST(LineConnection, PipelinedLinesOfOneChunkLeaveInOneWrite) {

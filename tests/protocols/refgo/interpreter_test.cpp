@@ -7,6 +7,7 @@
 
 #include <regex>
 
+#include "protocols/refgo/command.hpp"
 #include "tests/protocols/refgo/refgo_fixture.hpp"
 
 namespace mcemu::refgo {
@@ -102,6 +103,22 @@ INSTANTIATE_TEST_SUITE_P(
         Vector{"CO", "CO\r\nCO,ERROR,08000000h\r\n>"}, Vector{"TI0", "TI0\r\nTI0,ERROR,06090030h\r\n>"},
         Vector{"TI11", "TI11\r\nTI11,ERROR,06090030h\r\n>"}, Vector{"TI1", "TI1\r\n0\r\n>"},
         Vector{"TI", "TI\r\n0000\r\n>"}, Vector{"ti  ", "TI  \r\n0000\r\n>"}));
+
+// find_command compares packed integers: every word of the table finds its own row, and words
+// that only share a prefix, differ in length or in one letter find nothing.
+TEST(FindCommand, ExactWordsOnly) {
+  for (const CommandRow& row : command_table()) {
+    const CommandRow* found = find_command(row.word);
+    ASSERT_NE(found, nullptr) << row.word;
+    EXPECT_EQ(found->word, row.word);
+  }
+  for (std::string_view miss : {"", "T", "TPS", "TPSRX", "GG", "GWW", "PW", "PWCX", "RE", "REFX", "AC V", "ACVV", "tp",
+                                "XYZ", "ABCDE", "ZZZZ", "OX", "W"}) {
+    EXPECT_EQ(find_command(miss), nullptr) << miss;
+  }
+  EXPECT_NE(find_command("G"), find_command("GW"));
+  EXPECT_NE(find_command("TP"), find_command("TPSR"));
+}
 
 TEST_F(InterpreterTest, ObjectRoundTripLikeThe2021Log) {
   // MAN §4.4.3 rows 12–14 and the DEMO extract of 21.10.2021 13:05.
