@@ -19,6 +19,7 @@
 
 #include <boost/asio/buffer.hpp>
 #include <boost/asio/error.hpp>
+#include <boost/asio/post.hpp>
 #include <boost/asio/socket_base.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/write.hpp>
@@ -105,7 +106,10 @@ class LineConnection final : public LineConnectionBase, public std::enable_share
   std::size_t backlog() const { return pending_.size() + in_flight_.size(); }
 
   bool may_read() const {
-    if (closed_ || reading_ || peer_eof_ || session_->paused()) return false;
+    // receiving_: the session is still working on buffer_ (its wake-up may arrive from inside
+    // receive(), e.g. a CANopen response to the sender's own frame); a read now would overwrite
+    // the bytes it has not parsed yet.
+    if (closed_ || reading_ || receiving_ || peer_eof_ || session_->paused()) return false;
     return !read_paused_for_backlog_;
   }
 
@@ -133,9 +137,15 @@ class LineConnection final : public LineConnectionBase, public std::enable_share
       close();
       return;
     }
+    receiving_ = true;
     session_->receive(std::string_view(buffer_.data(), n));
+    receiving_ = false;
     collect();
-    do_read();
+    // The next read starts after the handlers the loop already has ready (the other connections
+    // of this epoll batch): by then a client that got its reply has often sent its next request,
+    // so the read finds it at once instead of costing a recv that would block (EAGAIN) and a trip
+    // through epoll (echo_ratio, 16 connections: ~1 recv per request instead of ~2, +1.5 points).
+    boost::asio::post(stream_.get_executor(), [self = this->shared_from_this()] { self->do_read(); });
   }
 
   void on_session_output() {
@@ -255,6 +265,7 @@ class LineConnection final : public LineConnectionBase, public std::enable_share
   bool closed_ = false;
   bool read_paused_for_backlog_ = false;
   bool direct_writes_ = false;  // the stream is in non-blocking mode
+  bool receiving_ = false;      // inside session_->receive(): buffer_ is in use
 };
 
 }  // namespace mcemu::line::net

@@ -167,6 +167,47 @@ struct Fixture {
   bool closed = false;
 };
 
+// A session that wakes its adapter from inside receive(), as an SLCAN session does when the node
+// answers the frame it is handing over; it checks that the bytes it was given do not change under it.
+class WakingSession final : public StreamSession {
+ public:
+  void receive(std::string_view bytes) override {
+    const std::string before(bytes);
+    output_ += "<" + before + ">";
+    wake();  // the adapter collects and may want to read again: not into these bytes
+    if (std::string(bytes) != before) overwritten = true;
+    received.push_back(before);
+  }
+  std::string take_output() override { return std::exchange(output_, {}); }
+  void peer_closed() override {}
+  bool finished() const override { return true; }
+
+  std::vector<std::string> received;
+  bool overwritten = false;
+
+ private:
+  std::string output_;
+};
+
+TEST(LineConnection, AWakeUpInsideReceiveDoesNotReadIntoTheBytesBeingParsed) {
+  asio::io_context io;
+  Wire wire(io);
+  auto owned = std::make_unique<WakingSession>();
+  WakingSession* session = owned.get();
+  auto connection = std::make_shared<LineConnection<FakeStream>>(FakeStream(wire), LineServerOptions{},
+                                                                 PeerInfo{"fake:1", 1}, [](LineConnectionBase*) {});
+  connection->start(std::move(owned));
+  wire.send("first\r");     // read at once into the adapter's buffer, handler queued
+  wire.input = "second\r";  // arrives before the handler runs: a read started now would get it
+  io.restart();
+  io.poll();
+  EXPECT_FALSE(session->overwritten);
+  EXPECT_EQ(session->received, (std::vector<std::string>{"first\r", "second\r"}));
+  std::string all;
+  for (const auto& w : wire.writes) all += w;
+  EXPECT_EQ(all, "<first\r><second\r>");
+}
+
 TEST(LineConnection, EveryReplyIsExactlyOneWriteCall) {
   Fixture f;
   const std::vector<std::string> commands = {
