@@ -516,7 +516,7 @@ void ScriptEngine::output(std::string_view bytes) {
 }
 
 void ScriptEngine::trace_event(std::string text) {
-  if (trace_) trace_->record(trace::Channel::script, trace::Dir::event, std::move(text));
+  if (trace_) trace_->record(trace::Channel::script, trace::Dir::event, text);
 }
 
 // ---- time

@@ -43,7 +43,7 @@ class ClientSession final : public line::StreamSession {
     std::function<void()> activity;                     // LED: traffic
     std::function<void(const std::string& text)> note;  // empty: no notes (udp-debug.md §4.7 names RefGo)
     // This connection's trace (channel, conn and peer bound); empty: no trace.
-    std::function<void(trace::Dir dir, std::string text, trace::Flags flags)> trace;
+    std::function<void(trace::Dir dir, std::string_view text, trace::Flags flags)> trace;
     std::function<web::api::Verdict()> reply_verdict;  // empty: replies pass through the inner session
   };
 
@@ -96,7 +96,7 @@ class ClientSession final : public line::StreamSession {
   bool finished() const override { return inner_->finished() && ready_.empty() && held_.empty(); }
   bool paused() const override { return inner_->paused(); }
   void closing(std::string_view reason) override {
-    trace(trace::Dir::event, std::string(reason));
+    trace(trace::Dir::event, reason);
     inner_->closing(reason);
   }
 
@@ -120,8 +120,8 @@ class ClientSession final : public line::StreamSession {
     }
   }
 
-  void trace(trace::Dir dir, std::string text, trace::Flags flags = {}) const {
-    if (hooks_.trace && alive()) hooks_.trace(dir, std::move(text), flags);
+  void trace(trace::Dir dir, std::string_view text, trace::Flags flags = {}) const {
+    if (hooks_.trace && alive()) hooks_.trace(dir, text, flags);
   }
 
  private:
@@ -235,12 +235,12 @@ ClientSession::Hooks client_hooks(std::function<void()> sync, std::function<void
 }  // namespace
 
 // The trace of one connection (refgo.md §13, slcan-canopen.md §11.2): channel, conn and peer bound.
-std::function<void(trace::Dir, std::string, trace::Flags)> DriveUnit::connection_trace(
+std::function<void(trace::Dir, std::string_view, trace::Flags)> DriveUnit::connection_trace(
     trace::Channel channel, const line::net::PeerInfo& peer) {
   // A session can outlive the unit (the adapter's last handlers): then nothing is recorded.
   return [ring = trace_.get(), alive = std::weak_ptr<DriveUnit*>(self_), channel, conn = peer.id,
-          address = peer.address](trace::Dir dir, std::string text, trace::Flags flags) {
-    if (!alive.expired()) ring->record(channel, dir, std::move(text), conn, address, flags);
+          address = peer.address](trace::Dir dir, std::string_view text, trace::Flags flags) {
+    if (!alive.expired()) ring->record(channel, dir, text, conn, address, flags);
   };
 }
 
@@ -258,13 +258,13 @@ std::unique_ptr<line::StreamSession> DriveUnit::make_refgo_session(const line::n
   observer.received = [c = client.get()](const line::Line& l) {
     trace::Flags f;
     f.overlong = l.overlong;
-    c->trace(trace::Dir::rx, l.overlong ? l.raw.substr(0, 64) : l.raw, f);
+    c->trace(trace::Dir::rx, std::string_view(l.raw).substr(0, l.overlong ? 64 : std::string_view::npos), f);
   };
   observer.to_script = [c = client.get()](std::string_view text, bool discarded) {
     trace::Flags f;
     f.to_script = true;
     f.discarded = discarded;
-    c->trace(trace::Dir::event, std::string(text), f);
+    c->trace(trace::Dir::event, text, f);
   };
   refgo->set_observer(std::move(observer));
   return client;

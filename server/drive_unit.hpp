@@ -115,8 +115,8 @@ class DriveUnit {
   void bind_listeners();
   std::unique_ptr<line::StreamSession> make_refgo_session(const line::net::PeerInfo& peer);
   std::unique_ptr<line::StreamSession> make_slcan_session(const line::net::PeerInfo& peer);
-  std::function<void(trace::Dir, std::string, trace::Flags)> connection_trace(trace::Channel channel,
-                                                                              const line::net::PeerInfo& peer);
+  std::function<void(trace::Dir, std::string_view, trace::Flags)> connection_trace(trace::Channel channel,
+                                                                                   const line::net::PeerInfo& peer);
   // drive_transport.cpp: the transport fault injections and the UDP and drive trace taps.
   void wire_transport();
   void run_transport_actions();

@@ -46,7 +46,7 @@ std::optional<ChannelSet> parse_channels(std::string_view text) {
 Ring::Ring(Clocks clocks, std::size_t capacity)
     : clocks_(std::move(clocks)), capacity_(std::max<std::size_t>(capacity, 1)) {}
 
-std::uint64_t Ring::record(Channel channel, Dir dir, std::string text, std::uint64_t conn, std::string_view peer,
+std::uint64_t Ring::record(Channel channel, Dir dir, std::string_view text, std::uint64_t conn, std::string_view peer,
                            Flags flags) {
   Event* e = nullptr;
   if (events_.size() < capacity_) {
@@ -65,7 +65,7 @@ std::uint64_t Ring::record(Channel channel, Dir dir, std::string text, std::uint
   e->dir = dir;
   e->conn = conn;
   e->peer.assign(peer);
-  e->text = std::move(text);
+  e->text.assign(text);
   e->flags = flags;
   const std::uint64_t seq = e->seq;
   if (listener_) listener_(*e);

@@ -73,9 +73,9 @@ class Ring {
   // Appends one event (seq, time and wall filled in here) and returns its seq.
   // The ring's storage is reused once it is full: the oldest slot is overwritten in place, so a
   // steady stream of events allocates nothing (no deque blocks, and `peer` is copied into the
-  // slot's own string).
-  std::uint64_t record(Channel channel, Dir dir, std::string text, std::uint64_t conn = 0, std::string_view peer = {},
-                       Flags flags = {});
+  // slot's own string, and so is `text`: no string is built or handed over per event).
+  std::uint64_t record(Channel channel, Dir dir, std::string_view text, std::uint64_t conn = 0,
+                       std::string_view peer = {}, Flags flags = {});
 
   struct Query {
     std::uint64_t since = 0;  // first seq wanted
