@@ -281,10 +281,13 @@ action($('emu-powercycle'), async () => {
 
 // ---- settings (web.md §8.9)
 const SETTINGS = ['udpEmulatorNotes', 'scriptStrict', 'traceScriptCalls', 'scriptMemoryMiB'];
+// A reload (after any setting's change) leaves the field being edited alone: overwriting it would
+// drop what the user typed, and the change event that would send it never fires.
 async function loadSettings() {
   const s = await api.get('/api/v1/settings');
   for (const k of SETTINGS) {
     const el = $(`emu-set-${k}`);
+    if (el === document.activeElement && el.type !== 'checkbox') continue;
     if (el.type === 'checkbox') el.checked = !!s[k];
     else el.value = String(s[k]);
   }
