@@ -1,7 +1,5 @@
 #include "persistence/service.hpp"
 
-#include <spdlog/spdlog.h>
-
 namespace mcemu::persistence {
 
 namespace {
@@ -64,20 +62,15 @@ void Service::count_event(bool ok) {
 }
 
 void Service::submit(Image img, od::Done done, std::function<void(bool ok)> after) {
-  const auto started = std::chrono::steady_clock::now();
   const std::string text = serialize(img, model_, version_, hooks_.now_utc ? hooks_.now_utc() : "");
   const std::int64_t counter = next_counter_;
   expected_ = img;
   ++in_flight_;
-  storage_.write_state(text, [this, img = std::move(img), done = std::move(done), after = std::move(after), started,
+  storage_.write_state(text, [this, img = std::move(img), done = std::move(done), after = std::move(after),
                               counter](std::optional<std::string> error) mutable {
     --in_flight_;
-    const auto took = std::chrono::steady_clock::now() - started;
-    if (took > std::chrono::milliseconds(250)) {
-      spdlog::warn("store took {} ms", std::chrono::duration_cast<std::chrono::milliseconds>(took).count());
-    }
     if (error) {
-      spdlog::error("store failed: {}", *error);
+      if (hooks_.log_error) hooks_.log_error("store failed: " + *error);
       --next_counter_;
       expected_ = durable_;
       count_event(false);
@@ -135,7 +128,7 @@ od::AbortCode Service::restore_all(od::WriteRequest& req) {
     script_ = nullptr;
     if (hooks_.reset_script) hooks_.reset_script();
     if (hooks_.after_restore) hooks_.after_restore();
-    spdlog::info("factory reset done: parameters restored, script replaced by the placeholder");
+    if (hooks_.log_info) hooks_.log_info("factory reset done: parameters restored, script replaced by the placeholder");
   });
   return od::AbortCode::pending;
 }

@@ -6,10 +6,10 @@
 // OD write completes (done callback) when the file is durable or the write failed (0x06060000).
 // Requests run strictly in arrival order, each writing the snapshot of its own arrival. A restore
 // changes RAM only after its file is durable, so a failed restore changes nothing.
-// Threading: every call and callback on the event-loop thread.
+// Threading: every call and callback on the event-loop thread. PURE: the file write is the Storage's
+// (persistence/worker_storage.hpp in the server), the log lines go through the hooks.
 #pragma once
 
-#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -32,11 +32,13 @@ class Storage {
 };
 
 struct ServiceHooks {
-  std::function<bool()> operation_enabled;        // a restore is refused while true
-  std::function<std::int64_t()> home_offset_inc;  // stored for absolute-encoder models
-  std::function<void()> after_restore;            // RAM image changed by a bulk load (core, node, iofunc)
-  std::function<void()> reset_script;             // stop the script, load the placeholder
-  std::function<std::string()> now_utc;           // "2026-01-15T10:15:02Z" for written_utc
+  std::function<bool()> operation_enabled;            // a restore is refused while true
+  std::function<std::int64_t()> home_offset_inc;      // stored for absolute-encoder models
+  std::function<void()> after_restore;                // RAM image changed by a bulk load (core, node, iofunc)
+  std::function<void()> reset_script;                 // stop the script, load the placeholder
+  std::function<std::string()> now_utc;               // "2026-01-15T10:15:02Z" for written_utc
+  std::function<void(const std::string&)> log_info;   // "factory reset done: …"
+  std::function<void(const std::string&)> log_error;  // "store failed: …"
 };
 
 class Service {

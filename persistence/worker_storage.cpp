@@ -1,6 +1,9 @@
 #include "persistence/worker_storage.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <boost/asio/post.hpp>
+#include <chrono>
 
 namespace mcemu::persistence {
 
@@ -44,7 +47,12 @@ void WorkerStorage::run() {
       jobs_.pop_front();
       busy_ = true;
     }
+    const auto started = std::chrono::steady_clock::now();
     auto error = write_atomically(job.path, job.contents, options_);
+    const auto took = std::chrono::steady_clock::now() - started;
+    if (took > std::chrono::milliseconds(250)) {  // a slow disk: Store answers late (persistence.md §10)
+      spdlog::warn("store took {} ms", std::chrono::duration_cast<std::chrono::milliseconds>(took).count());
+    }
     if (job.done) {
       boost::asio::post(io_,
                         [done = std::move(job.done), error = std::move(error)]() mutable { done(std::move(error)); });

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <csignal>
 
+#include "drive/od/objects.hpp"
 #include "protocols/refgo/interpreter.hpp"
 #include "scripting/engine_process.hpp"
 #include "trace/trace.hpp"
@@ -128,15 +129,15 @@ const std::string& ScriptEngine::engine_version() const {
 
 ScriptEngine::~ScriptEngine() {
   *alive_ = false;
-  for (const auto& [index, sub] : {std::pair<std::uint16_t, std::uint8_t>{0x3500, 1},
-                                   {0x3500, 2},
-                                   {0x3500, 3},
-                                   {0x3500, 5},
-                                   {0x3500, 6},
+  for (const auto& [index, sub] : {std::pair<std::uint16_t, std::uint8_t>{od::k_script, od::k_script_id},
+                                   {od::k_script, od::k_script_state},
+                                   {od::k_script, od::k_script_line},
+                                   {od::k_script, od::k_script_length},
+                                   {od::k_script, od::k_script_crc32},
                                    {0x1F51, 1}}) {
     if (od_.find(index, sub)) od_.on_read(index, sub, {});
   }
-  if (od_.find(0x3500, 2)) od_.on_write(0x3500, 2, {});
+  if (od_.find(od::k_script, od::k_script_state)) od_.on_write(od::k_script, od::k_script_state, {});
   if (od_.find(0x1F51, 1)) od_.on_write(0x1F51, 1, {});
   if (run_) refgo_.attachment().close();
   for (auto& p : processes_) p->kill_and_reap();
@@ -149,14 +150,15 @@ void ScriptEngine::install_hooks() {
     if (od_.find(index, sub))
       od_.on_read(index, sub, [fn](const od::EntryInfo&) -> od::Result<od::Value> { return fn(); });
   };
-  read(0x3500, 1, [this] { return od::Value{source_.id()}; });
-  read(0x3500, 2, [this] { return od::Value{run_control_value(state_)}; });
-  read(0x3500, 3, [this] { return od::Value{std::int64_t{std::min<std::uint32_t>(line(), 255)}}; });
-  read(0x3500, 5, [this] { return od::Value{std::int64_t{source_.length()}}; });
-  read(0x3500, 6, [this] { return od::Value{std::int64_t{source_.crc32()}}; });
+  read(od::k_script, od::k_script_id, [this] { return od::Value{source_.id()}; });
+  read(od::k_script, od::k_script_state, [this] { return od::Value{run_control_value(state_)}; });
+  read(od::k_script, od::k_script_line,
+       [this] { return od::Value{std::int64_t{std::min<std::uint32_t>(line(), 255)}}; });
+  read(od::k_script, od::k_script_length, [this] { return od::Value{std::int64_t{source_.length()}}; });
+  read(od::k_script, od::k_script_crc32, [this] { return od::Value{std::int64_t{source_.crc32()}}; });
   read(0x1F51, 1, [this] { return od::Value{run_control_value(state_)}; });
-  if (od_.find(0x3500, 2)) {
-    od_.on_write(0x3500, 2, [this](od::WriteRequest& r) {
+  if (od_.find(od::k_script, od::k_script_state)) {
+    od_.on_write(od::k_script, od::k_script_state, [this](od::WriteRequest& r) {
       if (auto t = run_control_trigger(std::get<std::int64_t>(r.value), state_)) trigger(*t);
       return od::AbortCode::none;
     });
@@ -199,7 +201,8 @@ void ScriptEngine::code_act(int n) {
 }
 
 void ScriptEngine::set_autostart(bool on) {
-  if (od_.find(0x3500, 4)) od_.write(0x3500, 4, od::Value{std::int64_t{on ? 1 : 0}}, od::Origin::web);
+  if (od_.find(od::k_script, od::k_script_autostart))
+    od_.write(od::k_script, od::k_script_autostart, od::Value{std::int64_t{on ? 1 : 0}}, od::Origin::web);
 }
 
 void ScriptEngine::trigger(Trigger t) { apply(t); }
@@ -216,7 +219,9 @@ void ScriptEngine::power_cycle(const nlohmann::json& stored_record) {
 }
 
 void ScriptEngine::autostart_after_power_up() {
-  if (state_ == RunState::off && od_.find(0x3500, 4) && od_.number(0x3500, 4) == 1) trigger(Trigger::start);
+  if (state_ == RunState::off && od_.find(od::k_script, od::k_script_autostart) &&
+      od_.number(od::k_script, od::k_script_autostart) == 1)
+    trigger(Trigger::start);
 }
 
 void ScriptEngine::apply(Trigger t, std::optional<ScriptSource> uploaded, const nlohmann::json* stored) {

@@ -34,7 +34,7 @@ class App {
   boost::asio::io_context& io_;
   std::vector<std::unique_ptr<DriveUnit>> units_;
   sim::Fleet fleet_;
-  ClockMode mode_;
+  sim::ClockMode mode_;
   std::unique_ptr<ClockDriver> clock_;
   bool shut_down_ = false;
 };

@@ -21,19 +21,19 @@ class ClockDriver::Always final : public sim::Steppable {
   std::function<void()> step_;
 };
 
-ClockDriver::ClockDriver(boost::asio::io_context& io, sim::Steppable& target, ClockMode mode)
+ClockDriver::ClockDriver(boost::asio::io_context& io, sim::Steppable& target, sim::ClockMode mode)
     : io_(io), timer_(io), logic_(target, mode) {}
 
 ClockDriver::ClockDriver(boost::asio::io_context& io, std::function<void()> step)
-    : always_(std::make_unique<Always>(std::move(step))), io_(io), timer_(io), logic_(*always_, ClockMode{}) {}
+    : always_(std::make_unique<Always>(std::move(step))), io_(io), timer_(io), logic_(*always_, sim::ClockMode{}) {}
 
 ClockDriver::~ClockDriver() {
   *alive_ = false;
   stop();
 }
 
-ClockLogic::Wall ClockDriver::now() const {
-  return std::chrono::duration_cast<ClockLogic::Wall>(clock::now() - epoch_);
+sim::ClockLogic::Wall ClockDriver::now() const {
+  return std::chrono::duration_cast<sim::ClockLogic::Wall>(clock::now() - epoch_);
 }
 
 void ClockDriver::start() {
@@ -65,11 +65,11 @@ bool ClockDriver::advance(std::uint64_t ms, std::function<void()> done) {
   return true;
 }
 
-void ClockDriver::reschedule(const ClockLogic::Next& next) {
+void ClockDriver::reschedule(const sim::ClockLogic::Next& next) {
   if (!running_) return;
-  using Kind = ClockLogic::Next::Kind;
+  using Kind = sim::ClockLogic::Next::Kind;
   if (next.kind == Kind::now) {
-    if (next.lag > ClockLogic::k_max_full_per_wake) {
+    if (next.lag > sim::ClockLogic::k_max_full_per_wake) {
       const auto t = clock::now();
       if (t - last_warning_ > std::chrono::seconds(10)) {
         spdlog::warn("simulation is {} ms behind real time (the event loop is overloaded)", next.lag);

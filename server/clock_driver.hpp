@@ -20,15 +20,15 @@
 #include <functional>
 #include <memory>
 
-#include "server/clock_logic.hpp"
-#include "server/clock_mode.hpp"
+#include "sim/clock_logic.hpp"
+#include "sim/clock_mode.hpp"
 #include "sim/steppable.hpp"
 
 namespace mcemu::server {
 
 class ClockDriver {
  public:
-  ClockDriver(boost::asio::io_context& io, sim::Steppable& target, ClockMode mode = {});
+  ClockDriver(boost::asio::io_context& io, sim::Steppable& target, sim::ClockMode mode = {});
   // Compatibility: a step callback that needs every step (no idle sleeping), real time.
   ClockDriver(boost::asio::io_context& io, std::function<void()> step);
   ~ClockDriver();
@@ -49,7 +49,7 @@ class ClockDriver {
   void set_hold(std::function<bool()> held) { logic_.set_hold(std::move(held)); }
   void resume() { reschedule(logic_.plan()); }
 
-  const ClockMode& mode() const { return logic_.mode(); }
+  const sim::ClockMode& mode() const { return logic_.mode(); }
   double scale() const { return logic_.mode().scale; }
   std::uint64_t steps() const { return logic_.ticks(); }            // drive ms advanced since start()
   std::uint64_t full_steps() const { return logic_.full_steps(); }  // of which really run
@@ -57,16 +57,16 @@ class ClockDriver {
 
  private:
   class Always;
-  ClockLogic::Wall now() const;
-  void reschedule(const ClockLogic::Next& next);
+  sim::ClockLogic::Wall now() const;
+  void reschedule(const sim::ClockLogic::Next& next);
   void fire();
 
   std::unique_ptr<Always> always_;  // only with the compatibility constructor
   boost::asio::io_context& io_;
   boost::asio::steady_timer timer_;
-  ClockLogic logic_;
+  sim::ClockLogic logic_;
   std::chrono::steady_clock::time_point epoch_;
-  std::optional<ClockLogic::Wall> armed_;  // the timer's expiry, if armed
+  std::optional<sim::ClockLogic::Wall> armed_;  // the timer's expiry, if armed
   bool posted_ = false;
   bool running_ = false;
   std::uint64_t wake_ups_ = 0;

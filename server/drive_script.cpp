@@ -4,13 +4,12 @@
 // quiet steps come from the engine's deadlines, the lock-step with --clock manual, power cycle and
 // NMT reset node with autostart, the runtime settings, and the JSON API's view (ScriptControl).
 // The logic is the engine's (scripting/) and the router's (web/api/handlers_script.cpp).
-#include "persistence/service.hpp"
-#include "protocols/refgo/interpreter.hpp"
+#include "drive/od/objects.hpp"
 #include "protocols/udp_debug/net/udp_debug_service.hpp"
 #include "scripting/engine.hpp"
 #include "server/clock_driver.hpp"
 #include "server/drive_unit.hpp"
-#include "web/api/router.hpp"
+#include "web/api/services.hpp"
 
 namespace mcemu::server {
 
@@ -59,7 +58,7 @@ class DriveUnit::ScriptWeb final : public web::api::ScriptControl {
     if (!e) return v;
     v.id = e->id();
     v.state = std::string(scripting::to_string(e->state()));
-    v.autostart = unit_.od_->number(0x3500, 4) != 0;
+    v.autostart = unit_.device_->od().number(od::k_script, od::k_script_autostart) != 0;
     v.length = e->length();
     v.crc32 = e->crc32();
     v.line = static_cast<int>(std::min<std::uint32_t>(e->line(), 255));  // as 3500h.03
@@ -90,7 +89,7 @@ class DriveUnit::ScriptWeb final : public web::api::ScriptControl {
     return web::api::PythonStatus{std::string(scripting::to_string(e->state())),
                                   static_cast<int>(std::min<std::uint32_t>(e->line(), 255))};
   }
-  int refgo_attach_mode() const override { return static_cast<int>(unit_.refgo_interpreter_->attachment().mode()); }
+  int refgo_attach_mode() const override { return static_cast<int>(unit_.device_->refgo()->attachment().mode()); }
 
  private:
   ScriptEngine* eng() const { return unit_.engine_.get(); }
@@ -111,19 +110,24 @@ web::api::ScriptControl& DriveUnit::script_control() {
 void DriveUnit::build_script() {
   scripting::EngineCallbacks cb;
   cb.console = [this](std::string message) { udp_debug_->emit(std::move(message)); };
-  cb.record_changed = [this](const nlohmann::json& record) { persistence_->set_script(record); };
-  cb.after_call = [this] { on_core_events(); };  // EMCY, faults, UDP notes of the call's effects
+  cb.record_changed = [this](const nlohmann::json& record) { device_->persistence().set_script(record); };
+  cb.after_call = [this] { device_->handle_events(); };  // EMCY, faults, UDP notes of the call's effects
   cb.changed = [this] { wake(); };
-  const auto& rs = router_->settings();
+  const auto& rs = device_->settings();
   scripting::EngineSettings es;
   es.python = python_of(settings_.config);
   es.strict = rs.script_strict;
   es.memory_mib = static_cast<unsigned>(rs.script_memory_mib);
   es.trace_calls = rs.trace_script_calls;
   es.bind_address = settings_.bind;
-  engine_ = std::make_unique<ScriptEngine>(io_, *od_, *core_, *refgo_interpreter_, std::move(cb), std::move(es),
-                                           trace_.get());
+  engine_ = std::make_unique<ScriptEngine>(io_, device_->od(), device_->core(), *device_->refgo(), std::move(cb),
+                                           std::move(es), &device_->trace());
   script_power_down();
+  device_->add_part(script_part());
+  device_->faults().set_script_kill([this] { return engine_ && engine_->state() != RunState::off; },
+                                    [this] {
+                                      if (engine_) engine_->kill();
+                                    });
 }
 
 // The engine after the drive in every step (scripting/README.md). Quiet steps come from its
@@ -132,15 +136,16 @@ void DriveUnit::build_script() {
 // time from the shared page without asking (ticks_ms, a polling loop), so the drive is stepped
 // every 1 ms while it does; a skip publishes the drive time reached.
 std::unique_ptr<sim::Part> DriveUnit::script_part() {
+  const auto& core = device_->core();
   return std::make_unique<sim::FunctionPart>(
       [this] {
         if (engine_) engine_->on_step();
       },
-      [this]() -> std::uint64_t {
+      [this, &core]() -> std::uint64_t {
         if (!engine_) return sim::k_forever;
         if (!clock_manual_ && engine_->state() == RunState::run && !engine_->ready_for_step()) return 0;
         const auto due = engine_->next_deadline_ms();
-        return due ? sim::steps_before(*due, core_->time_ms()) : sim::k_forever;
+        return due ? sim::steps_before(*due, core.time_ms()) : sim::k_forever;
       },
       [this](std::uint64_t) {
         if (engine_) engine_->on_step();
@@ -149,17 +154,17 @@ std::unique_ptr<sim::Part> DriveUnit::script_part() {
 
 void DriveUnit::attach_clock(ClockDriver& clock) {
   clock_ = &clock;
-  clock_manual_ = clock.mode().kind == ClockMode::Kind::manual;
+  clock_manual_ = clock.mode().kind == sim::ClockMode::Kind::manual;
   // ticks_us between two steps from the host clock only where drive time is wall time
-  if (engine_) engine_->set_interpolate_us(clock.mode().kind == ClockMode::Kind::real);
+  if (engine_) engine_->set_interpolate_us(clock.mode().kind == sim::ClockMode::Kind::real);
 }
 
 bool DriveUnit::script_holds_clock() {
   if (!engine_ || engine_->ready_for_step()) return false;
   if (!hold_waiting_) {
     hold_waiting_ = true;
-    engine_->when_ready_for_step([this, alive = std::weak_ptr<DriveUnit*>(self_)] {
-      if (!alive.lock()) return;
+    engine_->when_ready_for_step([this, alive = alive_.watch()] {
+      if (!alive) return;
       hold_waiting_ = false;
       if (clock_) clock_->resume();
     });
@@ -171,7 +176,7 @@ bool DriveUnit::script_holds_clock() {
 // stored on disk (the placeholder if none) becomes the RAM script.
 void DriveUnit::script_power_down() {
   if (!engine_) return;
-  const auto& file = persistence_->on_file();
+  const auto& file = device_->persistence().on_file();
   engine_->power_cycle(file ? file->script : nlohmann::json());
 }
 
@@ -181,11 +186,11 @@ void DriveUnit::script_power_up() {
   if (engine_) engine_->autostart_after_power_up();
 }
 
-void DriveUnit::apply_script_settings(bool strict, std::int64_t memory_mib, bool trace_calls) {
+void DriveUnit::apply_script_settings(const device::RuntimeSettings& s) {
   if (!engine_) return;
-  engine_->set_strict(strict);
-  engine_->set_memory_mib(static_cast<unsigned>(memory_mib));
-  engine_->set_trace_calls(trace_calls);
+  engine_->set_strict(s.script_strict);
+  engine_->set_memory_mib(static_cast<unsigned>(s.script_memory_mib));
+  engine_->set_trace_calls(s.trace_script_calls);
 }
 
 }  // namespace mcemu::server

@@ -1,14 +1,11 @@
-// Maps the "plant" and "homing" sections of --config to the drive core's PlantConfig
-// (drive/plant_config.hpp lists the keys; models.md §4, drive-core.md §9.4, §10.2).
-// Throws UsageError with one line naming the key for an unknown key or a value of the wrong type.
+// The "plant" and "homing" sections of --config as the server sees them: the mapping is the
+// bundle's (device/plant_settings.hpp); UsageError is device::ConfigError.
 #pragma once
 
-#include <nlohmann/json.hpp>
-
-#include "drive/plant_config.hpp"
+#include "device/plant_settings.hpp"
 
 namespace mcemu::server {
 
-core::PlantConfig plant_config_from_json(const nlohmann::json& config);
+using device::plant_config_from_json;
 
 }  // namespace mcemu::server

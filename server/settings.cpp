@@ -116,7 +116,7 @@ void set_option(Settings& s, const std::string& name, const std::string& value, 
     s.refgo_max_clients = s.slcan_max_clients = s.http_max_clients = n;
   } else if (name == "clock") {
     try {
-      s.clock = parse_clock_mode(value);
+      s.clock = sim::parse_clock_mode(value);
     } catch (const std::invalid_argument& e) {
       throw UsageError("invalid value '" + value + "' for " + what + " (" + e.what() + ")");
     }

@@ -13,13 +13,14 @@
 #include <string>
 #include <vector>
 
-#include "server/clock_mode.hpp"
+#include "device/config_error.hpp"
+#include "sim/clock_mode.hpp"
 
 namespace mcemu::server {
 
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+// An invalid flag or config value (one line; exit status 2). The bundle's config parsers throw the
+// same type (device/config_error.hpp).
+using UsageError = device::ConfigError;
 
 struct Settings {
   std::string model = "MC349";
@@ -44,7 +45,7 @@ struct Settings {
   // --idle-timeout: a TCP connection that sent nothing for this long is closed (0 = off); the line
   // servers (RefGo, SLCAN) and the HTTP server apply it.
   std::chrono::seconds idle_timeout{0};
-  ClockMode clock;  // --clock real | scaled:X | manual
+  sim::ClockMode clock;  // --clock real | scaled:X | manual
   bool dump_od = false;
   bool dump_eds = false;
   bool help = false;

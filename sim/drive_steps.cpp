@@ -40,16 +40,4 @@ Advanced DriveSteps::advance_to(std::uint64_t t, std::uint64_t max_full) {
   return advance(*this, t - time_ms(), max_full);
 }
 
-std::uint64_t FaultsPart::quiet_steps() const {
-  const auto e = faults_.next_expiry();
-  return e ? steps_before(*e, core_.time_ms()) : k_forever;
-}
-
-std::uint64_t RefgoPart::quiet_steps() const {
-  const auto& p = refgo_.programs();
-  if (p.back_and_forth_active()) return 0;  // follows the drive every step
-  const auto due = p.jog_stop_due_ms();
-  return due ? steps_before(*due, core_.time_ms()) : k_forever;
-}
-
 }  // namespace mcemu::sim

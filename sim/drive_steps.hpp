@@ -1,8 +1,8 @@
 // One drive as the clock sees it (drive-core.md §2.4, iofunc.md §3): the I/O functions (which step
 // the drive core) and, in order after them, the parts that follow the drive in the same drive time
-// — fault-injection durations, the RefGo programs, the shell's event hand-off, the CANopen node,
-// later the script timers. Each part says how many steps it can be left alone; the drive is quiet
-// for the minimum, and a quiet stretch is skipped in one call.
+// (the bundle's parts, device/parts.hpp: fault-injection durations, the scope, the RefGo programs,
+// the event hand-off, the CANopen node, the script timers). Each part says how many steps it can be left alone; the
+// drive is quiet for the minimum, and a quiet stretch is skipped in one call.
 //
 // Contract: pure, single-threaded; holds references (the composition root owns everything and
 // keeps it alive). The order of parts is the order of add(). A step after touch() or after any
@@ -17,9 +17,7 @@
 #include "drive/drive_core.hpp"
 #include "drive/od/dictionary.hpp"
 #include "iofunc/io_functions.hpp"
-#include "protocols/refgo/interpreter.hpp"
 #include "sim/steppable.hpp"
-#include "web/api/faults.hpp"
 
 namespace mcemu::sim {
 
@@ -57,32 +55,6 @@ class DriveSteps final : public Steppable {
   std::vector<Part*> parts_;
   bool dirty_ = true;
   std::uint64_t generation_ = 0;  // od.generation() at the end of the last step
-};
-
-// ---- the parts of today's drive
-
-// web/api FaultInjections: removes injections whose drive-time duration is over.
-class FaultsPart final : public Part {
- public:
-  FaultsPart(web::api::FaultInjections& faults, const core::DriveCore& core) : faults_(faults), core_(core) {}
-  void step() override { faults_.on_step(); }
-  std::uint64_t quiet_steps() const override;
-
- private:
-  web::api::FaultInjections& faults_;
-  const core::DriveCore& core_;
-};
-
-// The RefGo interpreter's programs: the jog timer and Back & Forth (refgo.md §7.6, §7.7).
-class RefgoPart final : public Part {
- public:
-  RefgoPart(refgo::Interpreter& refgo, const core::DriveCore& core) : refgo_(refgo), core_(core) {}
-  void step() override { refgo_.on_step(); }
-  std::uint64_t quiet_steps() const override;
-
- private:
-  refgo::Interpreter& refgo_;
-  const core::DriveCore& core_;
 };
 
 // A hand-off run after every full step that needs no step of its own (the shell draining core

@@ -22,6 +22,7 @@
 #include "drive/led/leds.hpp"
 #include "protocols/refgo/interpreter.hpp"
 #include "tests/fuzz/drive_bundle.hpp"
+#include "tests/support/device_fixture.hpp"
 #include "trace/trace.hpp"
 #include "web/api/led_view.hpp"
 #include "web/api/router.hpp"
@@ -65,38 +66,38 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  fuzz::DriveBundle drive;
-  refgo::Interpreter interpreter(drive.od, drive.core);
-  trace::Ring ring(trace::Ring::Clocks{[&] { return drive.core.time_ms(); }, [] { return std::int64_t{0}; }});
-  led::Leds leds;
-  leds.power_up(led::address_of(drive.od));
+  testing::DeviceOptions options;
+  options.keep_events = false;
+  testing::DeviceFixture drive("MC349", std::move(options));
+  auto& dev = drive.device();
 
   web::api::Services services;
   services.info = [&] {
     web::api::Info i;
     i.version = "fuzz";
-    i.model = drive.preset.name;
+    i.model = dev.preset().name;
     return i;
   };
-  services.trace = &ring;
+  services.trace = &dev.trace();
   services.led_state = [&] {
-    const auto t = drive.core.time_ms();
-    return web::api::LedStatus{leds.green.on(t), leds.yellow.on(t)};
+    const auto t = dev.core().time_ms();
+    return web::api::LedStatus{dev.leds().green.on(t), dev.leds().yellow.on(t)};
   };
-  services.led = [&](std::string_view query) { return web::api::led_response(leds, drive.core.time_ms(), query); };
+  services.led = [&](std::string_view query) {
+    return web::api::led_response(dev.leds(), dev.core().time_ms(), query);
+  };
   services.clock = [] { return web::api::ClockInfo{"manual", 0}; };
   std::uint64_t steps = 0;
   services.advance_clock = [&](std::uint64_t ms, std::function<void(std::uint64_t)> done) {
     for (std::uint64_t i = 0; i < ms && steps < k_max_steps; ++i, ++steps) drive.step();
-    done(drive.core.time_ms());
+    done(dev.core().time_ms());
   };
   services.power_cycle = [&](std::function<void()> done) {
-    interpreter.reset();
-    drive.io.power_on();
+    dev.power_cycle();
     done();
   };
   services.note = [](const std::string&) {};
-  web::api::Router router(web::api::Drive{drive.od, drive.core, interpreter, drive.preset}, std::move(services));
+  web::api::Router router(dev, std::move(services));
   const auto routes = web::api::Router::route_docs();
 
   std::uint64_t asked = 0;
@@ -150,20 +151,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
       case 2: {
         const unsigned n = r.byte() + 1u;
-        for (unsigned i = 0; i < n && steps < k_max_steps; ++i, ++steps) {
-          drive.step();
-          router.on_step();
-        }
+        for (unsigned i = 0; i < n && steps < k_max_steps; ++i, ++steps) drive.step();
         break;
       }
-      case 3: drive.storage.complete(true); break;
-      default: drive.storage.complete(false); break;
+      case 3: drive.storage().complete(true); break;
+      default: drive.storage().complete(false); break;
     }
   }
-  while (drive.storage.pending() > 0) drive.storage.complete(true);
+  while (drive.storage().pending() > 0) drive.storage().complete(true);
   if (answered != asked) {
     fuzz::fail("answered " + std::to_string(answered) + " of " + std::to_string(asked) + " requests");
   }
-  fuzz::check_dictionary(drive.od);
+  fuzz::check_dictionary(dev.od());
   return 0;
 }

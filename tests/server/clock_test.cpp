@@ -6,43 +6,43 @@
 
 #include <regex>
 
-#include "server/clock_logic.hpp"
 #include "server/drive_unit.hpp"
 #include "server/settings.hpp"
+#include "sim/clock_logic.hpp"
 #include "tests/sim/fake_target.hpp"
 
 namespace mcemu::server {
 namespace {
 
 using namespace std::chrono_literals;
-using Kind = ClockLogic::Next::Kind;
+using Kind = sim::ClockLogic::Next::Kind;
 using sim::test::FakeTarget;
-using Wall = ClockLogic::Wall;
+using Wall = sim::ClockLogic::Wall;
 
 constexpr Wall ms(double v) { return Wall(static_cast<std::int64_t>(v * 1e6)); }
 
 TEST(ClockMode, Parse) {
-  EXPECT_EQ(parse_clock_mode("real").kind, ClockMode::Kind::real);
-  EXPECT_EQ(parse_clock_mode("real").scale, 1.0);
-  EXPECT_EQ(parse_clock_mode("manual").kind, ClockMode::Kind::manual);
-  EXPECT_EQ(parse_clock_mode("manual").scale, 0.0);
+  EXPECT_EQ(sim::parse_clock_mode("real").kind, sim::ClockMode::Kind::real);
+  EXPECT_EQ(sim::parse_clock_mode("real").scale, 1.0);
+  EXPECT_EQ(sim::parse_clock_mode("manual").kind, sim::ClockMode::Kind::manual);
+  EXPECT_EQ(sim::parse_clock_mode("manual").scale, 0.0);
   for (const auto& [text, x] : std::vector<std::pair<const char*, double>>{
            {"scaled:0.1", 0.1}, {"scaled:1000", 1000}, {"scaled:2.5", 2.5}, {"scaled:1", 1}, {"scaled:.5", 0.5}}) {
-    const ClockMode m = parse_clock_mode(text);
-    EXPECT_EQ(m.kind, ClockMode::Kind::scaled) << text;
+    const sim::ClockMode m = sim::parse_clock_mode(text);
+    EXPECT_EQ(m.kind, sim::ClockMode::Kind::scaled) << text;
     EXPECT_DOUBLE_EQ(m.scale, x) << text;
     EXPECT_STREQ(m.name(), "scaled");
   }
   for (const char* bad :
        {"", "Real", "fast", "scaled", "scaled:", "scaled:0.09", "scaled:1000.1", "scaled:0", "scaled:-1", "scaled:1e2",
         "scaled:inf", "scaled:nan", "scaled:1.2.3", "scaled:.", "scaled:0x10", "scaled: 2", "manual:1"}) {
-    EXPECT_THROW(parse_clock_mode(bad), std::invalid_argument) << bad;
+    EXPECT_THROW(sim::parse_clock_mode(bad), std::invalid_argument) << bad;
   }
 }
 
 TEST(ClockMode, CommandLineAndConfig) {
-  EXPECT_EQ(parse_command_line({}).clock.kind, ClockMode::Kind::real);
-  EXPECT_EQ(parse_command_line({"--clock", "manual"}).clock.kind, ClockMode::Kind::manual);
+  EXPECT_EQ(parse_command_line({}).clock.kind, sim::ClockMode::Kind::real);
+  EXPECT_EQ(parse_command_line({"--clock", "manual"}).clock.kind, sim::ClockMode::Kind::manual);
   EXPECT_DOUBLE_EQ(parse_command_line({"--clock=scaled:20"}).clock.scale, 20);
   EXPECT_THROW(parse_command_line({"--clock", "scaled:5000"}), UsageError);
   EXPECT_THROW(parse_command_line({"--clock"}), UsageError);
@@ -51,14 +51,14 @@ TEST(ClockMode, CommandLineAndConfig) {
   EXPECT_DOUBLE_EQ(s.clock.scale, 4);
   Settings t = parse_command_line({"--clock", "manual"});
   apply_config(t, nlohmann::json{{"clock", "scaled:4"}}, {"clock"});
-  EXPECT_EQ(t.clock.kind, ClockMode::Kind::manual);  // the command line wins
+  EXPECT_EQ(t.clock.kind, sim::ClockMode::Kind::manual);  // the command line wins
   EXPECT_NE(help_text().find("--clock MODE"), std::string::npos);
 }
 
 TEST(ClockLogic, RealTimeRunsOneStepPerElapsedMillisecond) {
   FakeTarget f;
   f.busy = true;
-  ClockLogic c(f, {});
+  sim::ClockLogic c(f, {});
   c.start(ms(1000));
   auto next = c.on_wake(ms(1005.5));
   EXPECT_EQ(f.t, 5u);
@@ -73,7 +73,7 @@ TEST(ClockLogic, RealTimeRunsOneStepPerElapsedMillisecond) {
 TEST(ClockLogic, BehindItRunsAtMost50FullStepsPerWakeUp) {
   FakeTarget f;
   f.busy = true;
-  ClockLogic c(f, {});
+  sim::ClockLogic c(f, {});
   c.start(ms(0));
   std::vector<std::uint64_t> lags;
   auto next = c.on_wake(ms(200));
@@ -90,7 +90,7 @@ TEST(ClockLogic, BehindItRunsAtMost50FullStepsPerWakeUp) {
 TEST(ClockLogic, SleepsUntilTheNextNeededStepAndSkipsTheRestInOneCall) {
   FakeTarget f;
   f.needed = {1000, 60000};
-  ClockLogic c(f, {});
+  sim::ClockLogic c(f, {});
   c.start(ms(0));
   auto next = c.on_wake(ms(0.3));
   ASSERT_EQ(next.kind, Kind::sleep_until);
@@ -110,7 +110,7 @@ TEST(ClockLogic, SleepsUntilTheNextNeededStepAndSkipsTheRestInOneCall) {
 
 TEST(ClockLogic, SyncCatchesUpAndMakesTheNextStepFull) {
   FakeTarget f;
-  ClockLogic c(f, {});
+  sim::ClockLogic c(f, {});
   c.start(ms(0));
   EXPECT_EQ(c.on_wake(ms(0)).kind, Kind::wait);
   const auto next = c.sync(ms(3500.2));
@@ -129,14 +129,14 @@ TEST(ClockLogic, SyncCatchesUpAndMakesTheNextStepFull) {
 TEST(ClockLogic, ScaledTime) {
   FakeTarget f;
   f.busy = true;
-  ClockLogic fast(f, parse_clock_mode("scaled:2.5"));
+  sim::ClockLogic fast(f, sim::parse_clock_mode("scaled:2.5"));
   fast.start(ms(0));
   auto next = fast.on_wake(ms(10));
   EXPECT_EQ(f.t, 25u);
   EXPECT_EQ(next.at, ms(10.4));
   FakeTarget g;
   g.busy = true;
-  ClockLogic slow(g, parse_clock_mode("scaled:0.1"));
+  sim::ClockLogic slow(g, sim::parse_clock_mode("scaled:0.1"));
   slow.start(ms(0));
   next = slow.on_wake(ms(19.9));
   EXPECT_EQ(g.t, 1u);
@@ -146,7 +146,7 @@ TEST(ClockLogic, ScaledTime) {
 TEST(ClockLogic, DueAtIsTheFirstInstantAStepIsDue) {
   for (const char* mode : {"real", "scaled:0.1", "scaled:0.3", "scaled:2.5", "scaled:7", "scaled:1000"}) {
     FakeTarget f;
-    ClockLogic c(f, parse_clock_mode(mode));
+    sim::ClockLogic c(f, sim::parse_clock_mode(mode));
     c.start(ms(123.456789));
     for (std::uint64_t k : {1ULL, 2ULL, 3ULL, 10ULL, 999ULL, 123457ULL, 86400000ULL, 10000000000ULL}) {
       const Wall w = c.due_at(k);
@@ -159,7 +159,7 @@ TEST(ClockLogic, DueAtIsTheFirstInstantAStepIsDue) {
 // due_at() remembers its last answer; a new start (new epoch) must not get the old one.
 TEST(ClockLogic, DueAtAfterARestartFollowsTheNewEpoch) {
   FakeTarget f;
-  ClockLogic c(f, parse_clock_mode("real"));
+  sim::ClockLogic c(f, sim::parse_clock_mode("real"));
   c.start(ms(0));
   EXPECT_EQ(c.due_at(5), ms(5));
   EXPECT_EQ(c.due_at(5), ms(5));
@@ -182,7 +182,7 @@ TEST(WallStamp, IsoUtcWithMilliseconds) {
 
 TEST(ClockLogic, ScaledIdleHourIsOneSkip) {
   FakeTarget f;
-  ClockLogic c(f, parse_clock_mode("scaled:1000"));
+  sim::ClockLogic c(f, sim::parse_clock_mode("scaled:1000"));
   c.start(ms(0));
   c.on_wake(ms(3600000));
   EXPECT_EQ(f.t, 3600000000ULL);
@@ -192,7 +192,7 @@ TEST(ClockLogic, ScaledIdleHourIsOneSkip) {
 TEST(ClockLogic, ManualRunsOnlyRequestsInSlicesOf50) {
   FakeTarget f;
   f.busy = true;
-  ClockLogic c(f, parse_clock_mode("manual"));
+  sim::ClockLogic c(f, sim::parse_clock_mode("manual"));
   c.start(ms(0));
   EXPECT_EQ(c.on_wake(ms(50000)).kind, Kind::wait);
   EXPECT_EQ(f.t, 0u);  // drive time stands still
@@ -220,20 +220,20 @@ TEST(ClockLogic, ManualRunsOnlyRequestsInSlicesOf50) {
 
 TEST(ClockLogic, ManualRefusals) {
   FakeTarget f;
-  ClockLogic manual(f, parse_clock_mode("manual"));
+  sim::ClockLogic manual(f, sim::parse_clock_mode("manual"));
   EXPECT_FALSE(manual.request(0, {}));
-  EXPECT_FALSE(manual.request(k_max_advance_ms + 1, {}));
-  EXPECT_TRUE(manual.request(k_max_advance_ms, {}));
-  ClockLogic real(f, {});
+  EXPECT_FALSE(manual.request(sim::k_max_advance_ms + 1, {}));
+  EXPECT_TRUE(manual.request(sim::k_max_advance_ms, {}));
+  sim::ClockLogic real(f, {});
   EXPECT_FALSE(real.request(10, {}));
-  ClockLogic scaled(f, parse_clock_mode("scaled:2"));
+  sim::ClockLogic scaled(f, sim::parse_clock_mode("scaled:2"));
   EXPECT_FALSE(scaled.request(10, {}));
 }
 
 TEST(ClockLogic, ManualHourOfIdleIsOneSlice) {
   FakeTarget f;
   f.needed = {7, 1800000};
-  ClockLogic c(f, parse_clock_mode("manual"));
+  sim::ClockLogic c(f, sim::parse_clock_mode("manual"));
   c.start(ms(0));
   bool done = false;
   ASSERT_TRUE(c.request(3600000, [&] { done = true; }));
@@ -245,7 +245,7 @@ TEST(ClockLogic, ManualHourOfIdleIsOneSlice) {
 TEST(ClockLogic, ManualHoldPausesAfterTheStepThatWokeTheScript) {
   FakeTarget f;
   f.busy = true;
-  ClockLogic c(f, parse_clock_mode("manual"));
+  sim::ClockLogic c(f, sim::parse_clock_mode("manual"));
   c.start(ms(0));
   bool script_running = false;
   bool woken = false;

@@ -13,60 +13,41 @@
 #include <cstdlib>
 #include <functional>
 
-#include "drive/led/leds.hpp"
-#include "drive/model/model_preset.hpp"
-#include "server/canopen_bus.hpp"
-#include "server/canopen_part.hpp"
-#include "server/clock_logic.hpp"
+#include "sim/clock_logic.hpp"
 #include "sim/drive_steps.hpp"
 #include "tests/sim/trace_text.hpp"
+#include "tests/support/device_fixture.hpp"
 
 namespace mcemu::server {
 namespace {
 
 struct Drive {
-  model::ModelPreset preset = *model::find_preset("MC349");
-  od::ObjectDictionary od{preset};
-  core::DriveCore core{preset, od};
-  iofunc::IoFunctions io{od, core};
-  web::api::FaultInjections faults{od, core};
-  refgo::Interpreter refgo{od, core};
-  led::Leds leds;
-  std::unique_ptr<CanopenBus> bus;
+  // the bundle as the server builds it (tests/support/device_fixture.hpp); core events and I/O
+  // diagnostics reach the trace through the fixture's taps
+  testing::DeviceFixture fx{"MC349", options()};
+  od::ObjectDictionary& od = fx.od();
+  core::DriveCore& core = fx.core();
+  device::FaultInjections& faults = fx.device().faults();
+  refgo::Interpreter& refgo = fx.refgo();
+  led::Leds& leds = fx.device().leds();
+  sim::DriveSteps& steps = fx.device().steps();
   std::unique_ptr<line::StreamSession> client;
-  sim::FaultsPart faults_part{faults, core};
-  sim::RefgoPart refgo_part{refgo, core};
-  std::unique_ptr<sim::HookPart> events_part;
-  std::unique_ptr<sim::FunctionPart> canopen;
-  sim::DriveSteps steps{od, io, core};
   std::vector<std::string> trace;
 
+  static testing::DeviceOptions options() {
+    testing::DeviceOptions o;
+    o.keep_events = false;
+    return o;
+  }
   Drive() {
-    canopen::Node::Hooks hooks;
-    hooks.after_od_write = [this] { hand_off(); };
-    bus = std::make_unique<CanopenBus>(od, slcan::SlcanConfig{}, canopen::CanopenConfig{}, std::move(hooks));
-    client = bus->make_session();
-    events_part = std::make_unique<sim::HookPart>([this] { hand_off(); });
-    canopen = std::make_unique<sim::FunctionPart>(canopen_part(*bus));
-    // App::step order: iofunc (core), faults, RefGo programs, events, CANopen
-    steps.add(faults_part);
-    steps.add(refgo_part);
-    steps.add(*events_part);
-    steps.add(*canopen);
-    io.power_on();
-    leds.power_up(led::address_of(od));
-    bus->power_on();
+    fx.on_event = [this](const core::Event& e) { trace.push_back(stamp() + sim::test::event_text(e)); };
+    fx.on_log = [this](const std::string& text) { trace.push_back(stamp() + "io " + text); };
+    client = fx.device().canopen()->make_session();
+    fx.device().canopen()->power_on();
   }
+  // App::on_core_events plus the LED status: the bundle's event hand-off
+  void hand_off() { fx.device().handle_events(); }
   std::string stamp() const { return std::to_string(core.time_ms()) + " "; }
-  // App::on_core_events plus the LED status
-  void hand_off() {
-    for (const auto& d : io.drain_diagnostics()) trace.push_back(stamp() + "io " + d.text);
-    for (const auto& e : core.drain_events()) {
-      if (const auto* emcy = std::get_if<core::Emcy>(&e)) bus->node().emit_emcy(emcy->code, emcy->reg, emcy->data);
-      trace.push_back(stamp() + sim::test::event_text(e));
-    }
-    leds.update_status(core, od);
-  }
   void frames() {
     const std::string out = client->take_output();
     if (!out.empty()) trace.push_back(stamp() + "can " + out);
@@ -134,7 +115,7 @@ const std::vector<Action>& scenario() {
       {8000,
        [](Drive& d) {
          const auto r = d.faults.create(R"({"kind": "drive.inject", "cause": "under_voltage", "durationMs": 3000})");
-         d.trace.push_back(d.stamp() + "fault " + std::to_string(r.status));
+         d.trace.push_back(d.stamp() + "fault " + (std::holds_alternative<nlohmann::json>(r) ? "201" : "refused"));
        }},
       {12000, [](Drive& d) { d.W(0x6040, 0, 0x80); }},
       {14000,
@@ -172,8 +153,8 @@ struct Result {
 Result run(Path path) {
   Drive d;
   Result r;
-  using Wall = ClockLogic::Wall;
-  ClockLogic clock(d.steps, ClockMode{});
+  using Wall = sim::ClockLogic::Wall;
+  sim::ClockLogic clock(d.steps, sim::ClockMode{});
   clock.start(Wall(0));
   const auto wall = [](std::uint64_t ms) { return Wall(static_cast<std::int64_t>(ms) * 1000000); };
   const auto go_to = [&](std::uint64_t t) {
@@ -189,7 +170,7 @@ Result run(Path path) {
         // the driver's loop: wake up when the plan says, never before; then a client at t
         for (;;) {
           const auto next = clock.plan();
-          if (next.kind == ClockLogic::Next::Kind::sleep_until && next.at <= wall(t)) {
+          if (next.kind == sim::ClockLogic::Next::Kind::sleep_until && next.at <= wall(t)) {
             clock.on_wake(next.at);
             ++r.wake_ups;
           } else {

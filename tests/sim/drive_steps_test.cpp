@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "device/parts.hpp"
 #include "drive/model/model_preset.hpp"
 
 namespace mcemu::sim {
@@ -19,10 +20,10 @@ struct Rig {
   od::ObjectDictionary od{preset};
   core::DriveCore core{preset, od};
   iofunc::IoFunctions io{od, core};
-  web::api::FaultInjections faults{od, core};
+  device::FaultInjections faults{od, core};
   refgo::Interpreter refgo{od, core};
-  FaultsPart faults_part{faults, core};
-  RefgoPart refgo_part{refgo, core};
+  device::FaultsPart faults_part{faults, core};
+  device::RefgoPart refgo_part{refgo, core};
   DriveSteps steps{od, io, core};
   Rig() {
     steps.add(faults_part);
@@ -67,7 +68,8 @@ TEST(DriveSteps, IdleDriveIsQuietForeverAndEveryChangeEndsIt) {
 TEST(DriveSteps, FaultDurationEndsInTheSameStepAsWithOneMillisecondSteps) {
   Rig r;
   r.steps.advance_to(100);
-  ASSERT_EQ(r.faults.create(R"({"kind": "drive.ambient", "celsius": 25, "durationMs": 5000})").status, 201);
+  ASSERT_TRUE(std::holds_alternative<nlohmann::json>(
+      r.faults.create(R"({"kind": "drive.ambient", "celsius": 25, "durationMs": 5000})")));
   r.steps.touch();
   r.steps.step();
   EXPECT_EQ(r.steps.next_deadline_ms(), 5100u);

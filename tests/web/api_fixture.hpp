@@ -1,4 +1,4 @@
-// A real drive (MC349 dictionary, core, RefGo interpreter) behind the pure router, stepped in
+// A real drive bundle (tests/support/device_fixture.hpp) behind the pure router, stepped in
 // simulated time, for the web API tests. Services start empty; a test fills what it needs before
 // calling make_router().
 #pragma once
@@ -13,20 +13,20 @@
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
 #include "protocols/refgo/interpreter.hpp"
+#include "tests/support/device_fixture.hpp"
 #include "trace/trace.hpp"
 #include "web/api/router.hpp"
 
 namespace mcemu::web::api::testing {
 
 struct ApiFixture {
-  explicit ApiFixture(const char* model = "MC349")
-      : preset(*model::find_preset(model)),
-        od(preset),
-        core(preset, od),
-        interpreter(od, core),
-        ring(trace::Ring::Clocks{[this] { return core.time_ms(); },
-                                 [] { return std::int64_t{1768472102123}; }}) {  // 2026-01-15T10:15:02.123Z
-    core.power_on();
+  explicit ApiFixture(const char* model = "MC349", nlohmann::json config = nlohmann::json::object())
+      : bundle(model, std::move(config)),
+        preset(bundle.preset()),
+        od(bundle.od()),
+        core(bundle.core()),
+        interpreter(bundle.refgo()),
+        ring(bundle.device().trace()) {
     services.info = [this] {
       Info i;
       i.version = "0.1.0";
@@ -34,23 +34,38 @@ struct ApiFixture {
       return i;
     };
     services.trace = &ring;
+    bundle.storage().set_auto_complete(true);
+    // the UDP notes of the bundle go where the router's go (the server sends both on UDP)
+    bundle.on_note = [this](const std::string& text) {
+      if (services.note) services.note(text);
+    };
   }
 
+  // As the server does: script.kill reaches the engine the API sees (services.script).
   Router& make_router() {
-    router = std::make_unique<Router>(Drive{od, core, interpreter, preset}, services);
+    if (services.script) {
+      bundle.device().faults().set_script_kill([this] { return services.script->view().state != "OFF"; },
+                                               [this] { services.script->kill(); });
+    }
+    router = std::make_unique<Router>(bundle.device(), services);
     return *router;
   }
+  void release_store_hooks() { bundle.release_store_hooks(); }
   Router& r() {
     if (!router) make_router();
     return *router;
   }
+  device::TransportFaults& transport_faults() { return bundle.device().transport_faults(); }
+  // The hook the server gives the bundle for a change of the runtime settings (web.md §8.9).
+  void observe_settings(std::function<void(const device::RuntimeSettings&)> fn) {
+    device::Observers o;
+    o.settings_changed = std::move(fn);
+    bundle.device().set_observers(std::move(o));
+  }
 
   void step(std::uint64_t n = 1) {
-    for (std::uint64_t i = 0; i < n; ++i) {
-      core.step();
-      interpreter.on_step();
-      r().on_step();
-    }
+    r();
+    bundle.step(n);
   }
 
   // One request; checks that respond is called exactly once before handle() returns.
@@ -84,11 +99,12 @@ struct ApiFixture {
     return out;
   }
 
-  model::ModelPreset preset;
-  od::ObjectDictionary od;
-  core::DriveCore core;
-  refgo::Interpreter interpreter;
-  trace::Ring ring;
+  mcemu::testing::DeviceFixture bundle;
+  const model::ModelPreset& preset;
+  od::ObjectDictionary& od;
+  core::DriveCore& core;
+  refgo::Interpreter& interpreter;
+  trace::Ring& ring;
   Services services;
   std::unique_ptr<Router> router;
 };

@@ -1,7 +1,7 @@
 // Fault injection over the JSON API (web.md §9, slcan-canopen.md §11.3) through the router, on a
 // real dictionary and drive core stepped in simulated time: every kind, its validation, count and
 // durationMs, the journal, and the physical effect of the drive kinds.
-#include "web/api/faults.hpp"
+#include "device/faults.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,6 +12,10 @@
 namespace mcemu::web::api {
 namespace {
 
+using device::SdoPhase;
+using device::TransportFaults;
+using device::TransportKind;
+
 using nlohmann::json;
 using testing::ApiFixture;
 
@@ -21,9 +25,11 @@ json listed(ApiFixture& f) { return f.get("/api/v1/faults")["faults"]; }
 
 std::vector<core::Emcy> emcys(ApiFixture& f) {
   std::vector<core::Emcy> out;
-  for (const auto& e : f.core.drain_events()) {
+  f.bundle.device().handle_events();
+  for (const auto& e : f.bundle.events) {
     if (const auto* m = std::get_if<core::Emcy>(&e)) out.push_back(*m);
   }
+  f.bundle.events.clear();
   return out;
 }
 
@@ -65,7 +71,7 @@ TEST_P(ValidKind, CreatedListedAndRemoved) {
   EXPECT_EQ(listed(f)[0]["id"], id);
   EXPECT_EQ(f.call("DELETE", "/api/v1/faults/" + id).status, 200);
   EXPECT_TRUE(listed(f).empty());
-  EXPECT_TRUE(f.r().transport_faults().active().empty());
+  EXPECT_TRUE(f.transport_faults().active().empty());
   EXPECT_EQ(f.call("DELETE", "/api/v1/faults/" + id).status, 404);
 }
 
@@ -90,7 +96,7 @@ TEST_P(InvalidKind, Is400NamingTheFieldAndInjectsNothing) {
   EXPECT_NE(j["error"]["message"].get<std::string>().find(GetParam().names), std::string::npos)
       << j["error"]["message"];
   EXPECT_TRUE(listed(f).empty());
-  EXPECT_TRUE(f.r().transport_faults().active().empty());
+  EXPECT_TRUE(f.transport_faults().active().empty());
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -155,7 +161,7 @@ TEST_P(Duration, RemovesItselfAfterThatMuchDriveTime) {
   EXPECT_EQ(listed(f)[0]["expiresAtMs"], f.core.time_ms() + 1);
   f.step(1);
   EXPECT_TRUE(listed(f).empty());
-  EXPECT_TRUE(f.r().transport_faults().active().empty());
+  EXPECT_TRUE(f.transport_faults().active().empty());
 }
 
 INSTANTIATE_TEST_SUITE_P(Bodies, Duration, ::testing::ValuesIn(k_valid_bodies));
@@ -201,7 +207,7 @@ TEST_P(Count, TransportKindRemovesItselfAfterCountOccurrences) {
   json body = json::parse(GetParam().body);
   body["count"] = 2;
   ASSERT_EQ(post_fault(f, body.dump()).status, 201);
-  auto& t = f.r().transport_faults();
+  auto& t = f.transport_faults();
   EXPECT_TRUE(GetParam().occur(t));
   EXPECT_EQ(listed(f)[0]["remaining"], 1);
   EXPECT_TRUE(GetParam().occur(t));
@@ -239,7 +245,7 @@ TEST(FaultInjection, SdoAbortWithoutCountAbortsOneTransfer) {
   ASSERT_EQ(post_fault(f, R"({"kind": "slcan.sdoAbort", "index": "6041h", "sub": 0, "code": "06010002h"})").status,
             201);
   EXPECT_EQ(listed(f)[0]["remaining"], 1);
-  auto& t = f.r().transport_faults();
+  auto& t = f.transport_faults();
   EXPECT_TRUE(t.slcan_sdo_abort(0x6041, 0, SdoPhase::initiate));
   EXPECT_FALSE(t.slcan_sdo_abort(0x6041, 0, SdoPhase::initiate));
   EXPECT_TRUE(listed(f).empty());
@@ -308,13 +314,13 @@ TEST(FaultInjection, EmcyOfAnyOtherCodeSendsOneMessageOnly) {
 TEST(FaultInjection, DisconnectAndRawTxAreQueuedForTheServer) {
   ApiFixture f;
   int notified = 0;
-  f.r().transport_faults().set_action_listener([&] { ++notified; });
+  f.transport_faults().set_action_listener([&] { ++notified; });
   ASSERT_EQ(post_fault(f, R"({"kind": "refgo.disconnect"})").status, 201);
   ASSERT_EQ(post_fault(f, R"({"kind": "slcan.disconnect"})").status, 201);
   ASSERT_EQ(post_fault(f, R"({"kind": "slcan.rawTx", "text": "t12\r"})").status, 201);
   EXPECT_EQ(notified, 3);
   EXPECT_EQ(listed(f).size(), 3u) << "listed until performed";
-  const auto actions = f.r().transport_faults().drain_actions();
+  const auto actions = f.transport_faults().drain_actions();
   ASSERT_EQ(actions.size(), 3u);
   EXPECT_EQ(actions[0].kind, TransportKind::refgo_disconnect);
   EXPECT_EQ(actions[1].kind, TransportKind::slcan_disconnect);

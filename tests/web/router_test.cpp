@@ -14,6 +14,10 @@
 namespace mcemu::web::api {
 namespace {
 
+using device::apply_settings;
+using device::RuntimeSettings;
+using device::settings_json;
+
 using json = nlohmann::json;
 using testing::ApiFixture;
 
@@ -294,6 +298,7 @@ TEST(Router, FactoryValuesComeFromTheHook) {
 
 TEST(Router, StoreCompletesWhenTheHookCompletes) {
   ApiFixture f;
+  f.release_store_hooks();
   od::Done parked;
   f.od.on_write(0x1010, 1, [&](od::WriteRequest& r) {
     parked = std::move(*r.done);
@@ -311,6 +316,7 @@ TEST(Router, StoreCompletesWhenTheHookCompletes) {
 
 TEST(Router, FactoryResetWritesLoad) {
   ApiFixture f;
+  f.release_store_hooks();
   std::int64_t written = 0;
   f.od.on_write(0x1011, 1, [&](od::WriteRequest& r) {
     written = std::get<std::int64_t>(r.value);
@@ -440,6 +446,7 @@ TEST(Router, RefgoLineThroughTheInterpreter) {
 
 TEST(Router, RefgoStoreAnswersLater) {
   ApiFixture f;
+  f.release_store_hooks();
   od::Done parked;
   f.od.on_write(0x1010, 1, [&](od::WriteRequest& r) {
     parked = std::move(*r.done);
@@ -812,10 +819,9 @@ TEST(Router, WebSocketPathWithoutUpgradeIs426) {
 // ---- §8.9 settings --------------------------------------------------------------------------------
 
 TEST(Router, RuntimeSettings) {
-  ApiFixture f;
+  ApiFixture f("MC349", json{{"settings", {{"scriptMemoryMiB", 128}}}});  // the start value from --config
   std::vector<RuntimeSettings> changes;
-  f.services.settings.script_memory_mib = 128;  // the start value from --config
-  f.services.settings_changed = [&](const RuntimeSettings& s) { changes.push_back(s); };
+  f.observe_settings([&](const RuntimeSettings& s) { changes.push_back(s); });
   f.make_router();
   EXPECT_EQ(
       f.get("/api/v1/settings"),

@@ -1,6 +1,6 @@
 // The scope sampler of web.md §5.3/§8.7: 5 ms of drive time per sample, a 60 s ring, ?sinceMs and
 // the "since the previous call" blocks of the WebSocket scope message.
-#include "web/api/scope.hpp"
+#include "device/scope.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,6 +8,10 @@
 
 namespace mcemu::web::api {
 namespace {
+
+using device::Scope;
+using device::scope_message;
+using device::ScopeSample;
 
 using nlohmann::json;
 

@@ -97,8 +97,8 @@ json entry_json(const od::ObjectDictionary& od, const od::EntryInfo& e,
 
 void Router::get_objects(const Ctx& c) {
   json all = json::array();
-  drive_.od.for_each(
-      [&](const od::EntryInfo& e, const od::Value&) { all.push_back(entry_json(drive_.od, e, services_.factory)); });
+  device_.od().for_each(
+      [&](const od::EntryInfo& e, const od::Value&) { all.push_back(entry_json(device_.od(), e, services_.factory)); });
   c.respond(json_response(200, all));
 }
 
@@ -108,9 +108,9 @@ void Router::get_object(const Ctx& c) {
   if (!index || !sub) return c.respond(bad("object index and sub-index are hex numbers"));
   const auto i = static_cast<std::uint16_t>(*index);
   const auto s = static_cast<std::uint8_t>(*sub);
-  const auto v = drive_.od.read(i, s);
+  const auto v = device_.od().read(i, s);
   if (!v) return c.respond(abort_response(v.error()));
-  c.respond(json_response(200, entry_json(drive_.od, *drive_.od.info(i, s), services_.factory)));
+  c.respond(json_response(200, entry_json(device_.od(), *device_.od().info(i, s), services_.factory)));
 }
 
 void Router::put_object(const Ctx& c) {
@@ -135,10 +135,10 @@ void Router::put_object(const Ctx& c) {
     Router* self = alive ? *alive : nullptr;
     if (self) self->journal_text(conn, peer, what + " " + outcome(code));
     if (code != od::AbortCode::none) return respond(abort_response(code));
-    const auto v = self ? self->drive_.od.read(i, s) : od::Result<od::Value>(od::AbortCode::general);
+    const auto v = self ? self->device_.od().read(i, s) : od::Result<od::Value>(od::AbortCode::general);
     respond(json_response(200, json{{"ok", true}, {"value", v ? value_json(*v) : json(nullptr)}}));
   };
-  const auto code = drive_.od.write(i, s, value, od::Origin::web, finish);
+  const auto code = device_.od().write(i, s, value, od::Origin::web, finish);
   if (code != od::AbortCode::pending) finish(code);
 }
 
@@ -156,7 +156,7 @@ void Router::post_objects_read(const Ctx& c) {
       sub = json_hex_or_number(item[1], 0xFF);
     }
     if (!index || !sub) return c.respond(bad("bad object reference " + dump_json(item)));
-    const auto v = drive_.od.read(static_cast<std::uint16_t>(*index), static_cast<std::uint8_t>(*sub));
+    const auto v = device_.od().read(static_cast<std::uint16_t>(*index), static_cast<std::uint8_t>(*sub));
     values.push_back(v ? value_json(*v) : json{{"abortCode", abort_hex(v.error())}});
   }
   c.respond(json_response(200, json{{"values", values}}));
@@ -192,16 +192,16 @@ void Router::post_refgo(const Ctx& c) {
     }
     respond(json_response(200, answer(reply)));
   };
-  if (auto reply = drive_.refgo.execute(framed.text, done)) done(*reply);
+  if (auto reply = device_.refgo()->execute(framed.text, done)) done(*reply);
 }
 
 json Router::io_json() const {
   const auto number = [&](std::uint16_t i, std::uint8_t s) {
-    const auto v = drive_.od.read_number(i, s);
+    const auto v = device_.od().read_number(i, s);
     return v ? *v : 0;
   };
   return json{{"effective", number(0x60FD, 0)},
-              {"physical", drive_.core.physical_inputs()},
+              {"physical", device_.core().physical_inputs()},
               {"virtual", number(0x3510, 1)},
               {"outputs", number(0x60FE, 1)}};
 }
@@ -239,18 +239,18 @@ void Router::put_physical_inputs(const Ctx& c) {
     return c.respond(bad("expected {\"mask\": n} or {\"set\": […], \"clear\": […]}"));
   }
   // Check every pin first, so that a refused request changes nothing (iofunc.md §2.1).
-  const auto& pins = drive_.preset.input_pins;
+  const auto& pins = device_.preset().input_pins;
   const bool by_mask = body->contains("mask");
   for (int n = 1; n <= 10; ++n) {
     const auto& w = want[static_cast<std::size_t>(n)];
     if (!w || std::find(pins.begin(), pins.end(), n) != pins.end()) continue;
     if (by_mask && !*w) continue;  // a mask's 0 for a pin-less input is what that input already reads
     return c.respond(
-        error_json(409, "conflict", "IN" + std::to_string(n) + " has no pin on model " + drive_.preset.name));
+        error_json(409, "conflict", "IN" + std::to_string(n) + " has no pin on model " + device_.preset().name));
   }
   for (int n = 1; n <= 10; ++n) {
     const auto& w = want[static_cast<std::size_t>(n)];
-    if (w && std::find(pins.begin(), pins.end(), n) != pins.end()) drive_.core.set_external_input_level(n, *w);
+    if (w && std::find(pins.begin(), pins.end(), n) != pins.end()) device_.core().set_external_input_level(n, *w);
   }
   json j = io_json();
   journal(c.req, "PUT io/physical-inputs " + dump_json(*body) + " -> physical " +
@@ -269,8 +269,8 @@ void Router::store_or_reset(const Ctx& c, bool store) {
     if (code != od::AbortCode::none) return respond(abort_response(code));
     respond(json_response(200, json{{"ok", true}}));
   };
-  const auto code = drive_.od.write(store ? 0x1010 : 0x1011, 1,
-                                    od::Value{std::int64_t{store ? 0x65766173 : 0x64616F6C}}, od::Origin::web, finish);
+  const auto code = device_.od().write(
+      store ? 0x1010 : 0x1011, 1, od::Value{std::int64_t{store ? 0x65766173 : 0x64616F6C}}, od::Origin::web, finish);
   if (code != od::AbortCode::pending) finish(code);
 }
 
@@ -286,7 +286,7 @@ void Router::post_power_cycle(const Ctx& c) {
   std::weak_ptr<Router*> weak = self_;
   services_.power_cycle([weak, respond = c.respond] {
     json j{{"ok", true}};
-    if (const auto alive = weak.lock(); alive && *alive) j["timeMs"] = (*alive)->drive_.core.time_ms();
+    if (const auto alive = weak.lock(); alive && *alive) j["timeMs"] = (*alive)->device_.core().time_ms();
     respond(json_response(200, j));
   });
 }

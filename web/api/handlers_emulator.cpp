@@ -2,6 +2,7 @@
 // console, runtime settings, clock and fault injection (web.md §8.6, §8.7, §8.9, §8.10, §9).
 #include <charconv>
 
+#include "sim/clock_mode.hpp"
 #include "web/api/http_util.hpp"
 #include "web/api/router.hpp"
 #include "web/api/trace_export.hpp"
@@ -13,7 +14,6 @@ using nlohmann::json;
 namespace {
 
 constexpr std::size_t k_max_trace_limit = 10000;
-constexpr std::uint64_t k_max_advance_ms = 3600000;
 
 Response bad(const std::string& message) { return error_json(400, "syntax", message); }
 Response unavailable(const std::string& what) { return error_json(503, "unavailable", what); }
@@ -108,7 +108,7 @@ void Router::get_scope(const Ctx& c) {
     if (!v) return c.respond(bad("\"sinceMs\": a drive time in ms (non-negative integer)"));
     since = *v;
   }
-  c.respond(json_response(200, scope_json(scope_.since_ms(since))));
+  c.respond(json_response(200, scope_json(device_.scope().since_ms(since))));
 }
 
 void Router::get_led(const Ctx& c) {
@@ -139,21 +139,20 @@ void Router::get_udp(const Ctx& c) {
 
 // ---- settings, clock --------------------------------------------------------------------------
 
-void Router::get_settings(const Ctx& c) { c.respond(json_response(200, settings_json(settings_))); }
+void Router::get_settings(const Ctx& c) { c.respond(json_response(200, settings_json(device_.settings()))); }
 
 void Router::put_settings(const Ctx& c) {
   const auto body = json_object_body(c.req);
   if (!body) return c.respond(bad("expected a JSON object of settings"));
-  if (auto error = apply_settings(settings_, *body)) return c.respond(bad(*error));
-  journal(c.req, "settings " + dump_json(*body));
-  if (services_.settings_changed) services_.settings_changed(settings_);
-  c.respond(json_response(200, settings_json(settings_)));
+  const auto accepted = [&] { journal(c.req, "settings " + dump_json(*body)); };
+  if (auto refused = device_.change_settings(*body, accepted)) return c.respond(refusal_response(*refused));
+  c.respond(json_response(200, settings_json(device_.settings())));
 }
 
 void Router::get_clock(const Ctx& c) {
   const ClockInfo clock = clock_info();
   c.respond(json_response(
-      200, json{{"mode", clock.mode}, {"scale", scale_json(clock.scale)}, {"timeMs", drive_.core.time_ms()}}));
+      200, json{{"mode", clock.mode}, {"scale", scale_json(clock.scale)}, {"timeMs", device_.core().time_ms()}}));
 }
 
 void Router::post_clock_advance(const Ctx& c) {
@@ -162,7 +161,7 @@ void Router::post_clock_advance(const Ctx& c) {
   for (const auto& [key, value] : body->items()) {
     if (key != "ms") return c.respond(bad("\"" + key + "\": unknown field"));
   }
-  const auto ms = json_uint((*body)["ms"], 1, k_max_advance_ms);
+  const auto ms = json_uint((*body)["ms"], 1, sim::k_max_advance_ms);
   if (!ms) return c.respond(bad("\"ms\": an integer 1 … 3600000"));
   const ClockInfo clock = clock_info();
   if (clock.mode != "manual") {
@@ -177,15 +176,23 @@ void Router::post_clock_advance(const Ctx& c) {
 
 // ---- fault injection --------------------------------------------------------------------------
 
-void Router::get_faults(const Ctx& c) { c.respond(faults_.list()); }
+void Router::get_faults(const Ctx& c) { c.respond(json_response(200, device_.faults().list())); }
 
 void Router::post_faults(const Ctx& c) {
   // The injection itself is journaled by FaultInjections (also removals by count or duration).
-  c.respond(faults_.create(c.req.body.empty() ? std::string("{}") : c.req.body));
+  auto outcome = device_.faults().create(c.req.body.empty() ? std::string("{}") : c.req.body);
+  if (const auto* refused = std::get_if<device::Refusal>(&outcome)) return c.respond(refusal_response(*refused));
+  c.respond(json_response(201, std::get<nlohmann::json>(outcome)));
 }
 
-void Router::delete_faults(const Ctx& c) { c.respond(faults_.remove_all()); }
+void Router::delete_faults(const Ctx& c) {
+  device_.faults().remove_all();
+  c.respond(json_response(200, nlohmann::json{{"ok", true}}));
+}
 
-void Router::delete_fault(const Ctx& c) { c.respond(faults_.remove(c.params[0])); }
+void Router::delete_fault(const Ctx& c) {
+  if (const auto refused = device_.faults().remove(c.params[0])) return c.respond(refusal_response(*refused));
+  c.respond(json_response(200, nlohmann::json{{"ok", true}}));
+}
 
 }  // namespace mcemu::web::api

@@ -129,7 +129,7 @@ void Router::put_script_autostart(const Ctx& c) {
     return c.respond(bad("expected {\"on\": true|false}"));
   }
   const bool on = (*body)["on"].get<bool>();
-  const auto code = drive_.od.write(0x3500, 4, od::Value{std::int64_t{on ? 1 : 0}}, od::Origin::web);
+  const auto code = device_.od().write(0x3500, 4, od::Value{std::int64_t{on ? 1 : 0}}, od::Origin::web);
   journal(c.req, std::string("script autostart ") + (on ? "on" : "off"));
   if (code != od::AbortCode::none) return c.respond(abort_response(code));
   c.respond(json_response(200, script_json(services_.script->view())));

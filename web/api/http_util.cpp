@@ -10,8 +10,6 @@ namespace mcemu::web::api {
 
 using nlohmann::json;
 
-std::string dump_json(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
-
 Response json_response(int status, const json& body) {
   Response r;
   r.status = status;
@@ -31,6 +29,17 @@ Response text_response(int status, std::string content_type, std::string body) {
 
 Response error_json(int status, std::string_view code, std::string_view message) {
   return json_response(status, json{{"error", {{"code", code}, {"message", message}}}});
+}
+
+Response refusal_response(const device::Refusal& r) {
+  switch (r.kind) {
+    case device::Refusal::Kind::syntax: return error_json(400, "syntax", r.message);
+    case device::Refusal::Kind::unavailable: return error_json(503, "unavailable", r.message);
+    case device::Refusal::Kind::conflict: return error_json(409, "conflict", r.message);
+    case device::Refusal::Kind::not_found: return error_json(404, "not-found", r.message);
+    case device::Refusal::Kind::forbidden: break;
+  }
+  return error_json(403, "forbidden", r.message);
 }
 
 Response abort_response(od::AbortCode c) {
@@ -64,32 +73,6 @@ std::string hex_sub(std::uint8_t sub) { return format_hex("%02Xh", sub); }
 std::string hex_u32(std::uint32_t v) { return format_hex("%08Xh", v); }
 std::string h4(std::uint32_t v) { return format_hex("%04Xh", v); }
 std::string abort_hex(od::AbortCode c) { return hex_u32(od::to_u32(c)); }
-
-std::optional<std::uint32_t> parse_hex_token(std::string_view t, std::uint32_t max) {
-  if (t.size() >= 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) {
-    t.remove_prefix(2);
-  } else if (!t.empty() && (t.back() == 'h' || t.back() == 'H')) {
-    t.remove_suffix(1);
-  }
-  if (t.size() > 8) return std::nullopt;
-  const auto v = od::parse_hex(t, max);
-  if (!v) return std::nullopt;
-  return static_cast<std::uint32_t>(*v);
-}
-
-std::optional<std::uint32_t> json_hex_or_number(const json& v, std::uint32_t max) {
-  if (v.is_string()) return parse_hex_token(v.get_ref<const std::string&>(), max);
-  if (v.is_number_unsigned() && v.get<std::uint64_t>() <= max)
-    return static_cast<std::uint32_t>(v.get<std::uint64_t>());
-  return std::nullopt;
-}
-
-std::optional<std::uint64_t> json_uint(const json& v, std::uint64_t min, std::uint64_t max) {
-  if (!v.is_number_unsigned()) return std::nullopt;
-  const auto n = v.get<std::uint64_t>();
-  if (n < min || n > max) return std::nullopt;
-  return n;
-}
 
 json scale_json(double scale) {
   if (std::isfinite(scale) && scale == std::floor(scale) && std::fabs(scale) < 1e15)

@@ -10,14 +10,19 @@
 #include <string>
 #include <string_view>
 
+#include "device/json_fields.hpp"
+#include "device/refusal.hpp"
 #include "drive/od/abort_code.hpp"
 #include "drive/od/types.hpp"
 #include "web/api/http_types.hpp"
 
 namespace mcemu::web::api {
 
-// JSON text of a value; invalid UTF-8 (raw RefGo bytes 0x80–0xFF) becomes U+FFFD instead of throwing.
-std::string dump_json(const nlohmann::json& j);
+// The JSON field readers of the bundle, shared by every handler.
+using device::dump_json;
+using device::json_hex_or_number;
+using device::json_uint;
+using device::parse_hex_token;
 
 // An API answer: application/json, Cache-Control: no-store (web.md §1.4).
 Response json_response(int status, const nlohmann::json& body);
@@ -25,6 +30,9 @@ Response json_response(int status, const nlohmann::json& body);
 Response text_response(int status, std::string content_type, std::string body);
 // The error body of web.md §8: {"error": {"code": …, "message": …}}.
 Response error_json(int status, std::string_view code, std::string_view message);
+// A refusal of the bundle with its status and error code (web.md §8): syntax 400, unavailable 503,
+// conflict 409, not_found 404, forbidden 403.
+Response refusal_response(const device::Refusal& r);
 // An OD refusal: 404 for a missing object or sub-index, 409 for every other code (web.md §8).
 Response abort_response(od::AbortCode c);
 // The 404 page of web.md §1.4 (HTML, links to /index.html).
@@ -36,13 +44,6 @@ std::string hex_sub(std::uint8_t sub);
 std::string hex_u32(std::uint32_t v);
 std::string h4(std::uint32_t v);
 std::string abort_hex(od::AbortCode c);
-
-// "6041", "6041h", "0x6041" → 0x6041 if ≤ max; sub-indices likewise ("0", "01h").
-std::optional<std::uint32_t> parse_hex_token(std::string_view text, std::uint32_t max);
-// A JSON index/sub-index/code: a string is hex as above, a number is its plain value (web.md §8).
-std::optional<std::uint32_t> json_hex_or_number(const nlohmann::json& v, std::uint32_t max);
-// A JSON value as a non-negative integer in [min, max], or nullopt.
-std::optional<std::uint64_t> json_uint(const nlohmann::json& v, std::uint64_t min, std::uint64_t max);
 
 // A clock scale as JSON: an integer when it is one (1, 0), else the number (0.5).
 nlohmann::json scale_json(double scale);

@@ -311,32 +311,14 @@ json Router::openapi() const {
   return openapi_document(docs, services_.info ? services_.info().version : std::string());
 }
 
-Router::Router(Drive drive, Services services)
-    : drive_(drive),
-      services_(std::move(services)),
-      settings_(services_.settings),
-      faults_(drive.od, drive.core),
-      self_(std::make_shared<Router*>(this)) {
-  faults_.set_journal([this](const std::string& trace_text, const std::string& note_text) {
-    if (services_.trace) services_.trace->record(trace::Channel::api, trace::Dir::event, trace_text);
-    if (settings_.udp_emulator_notes && services_.note) services_.note(note_text);
-  });
-  if (services_.script) {
-    faults_.set_script_kill([this] { return services_.script->view().state != "OFF"; },
-                            [this] { services_.script->kill(); });
-  }
-}
+Router::Router(device::Device& device, Services services)
+    : device_(device), services_(std::move(services)), self_(std::make_shared<Router*>(this)) {}
 
 Router::~Router() { *self_ = nullptr; }
 
-void Router::on_step() {
-  faults_.on_step();
-  scope_.on_step(drive_.core.time_ms(), drive_.od);
-}
-
 void Router::journal_text(std::uint64_t conn, const std::string& peer, const std::string& text) {
   if (services_.trace) services_.trace->record(trace::Channel::api, trace::Dir::event, text, conn, peer);
-  if (settings_.udp_emulator_notes && services_.note) services_.note("api " + text);
+  if (device_.settings().udp_emulator_notes && services_.note) services_.note("api " + text);
 }
 
 void Router::journal(const Request& request, const std::string& text) {
@@ -362,18 +344,18 @@ PageContext Router::page_context() {
   PageContext ctx;
   ctx.info = info_json();
   ctx.status = json::parse(status_text());
-  const auto& plant = drive_.core.plant_params();
+  const auto& plant = device_.core().plant_params();
   ctx.model.linear = plant.kind == model::Kind::linear;
-  ctx.model.input_pins = drive_.preset.input_pins;
-  ctx.model.output_pins = drive_.preset.output_pins;
+  ctx.model.input_pins = device_.preset().input_pins;
+  ctx.model.output_pins = device_.preset().output_pins;
   ctx.model.temperature_available = plant.temperature_available;
   ctx.model.supply_nominal_v = plant.supply_nominal_v;
   ctx.model.supply_uv_v = plant.supply_uv_v;
   ctx.model.supply_ov_v = plant.supply_ov_v;
-  ctx.model.rotary_accel_unit_num = drive_.preset.plant.rotary_accel_unit_num;
-  ctx.model.rotary_accel_unit_den = drive_.preset.plant.rotary_accel_unit_den;
+  ctx.model.rotary_accel_unit_num = device_.preset().plant.rotary_accel_unit_num;
+  ctx.model.rotary_accel_unit_den = device_.preset().plant.rotary_accel_unit_den;
   ctx.object = [this](std::uint16_t index, std::uint8_t sub) -> std::optional<json> {
-    const auto v = drive_.od.read(index, sub);
+    const auto v = device_.od().read(index, sub);
     if (!v) return std::nullopt;
     return value_json(*v);
   };
@@ -390,7 +372,7 @@ void Router::page(const Request& request, const Respond& answer) {
     answer(std::move(r));
   };
   const std::string path(target_path(request.target));
-  if (const auto status = faults_.transport().take_http_error(path)) {
+  if (const auto status = device_.faults().transport().take_http_error(path)) {
     Response r;
     r.status = *status;
     r.content_type = "text/html; charset=utf-8";
@@ -449,21 +431,21 @@ void Router::dispatch(const Request& request, const Respond& respond) {
 ClockInfo Router::clock_info() const { return services_.clock ? services_.clock() : ClockInfo{}; }
 
 StatusInputs Router::status_inputs() const {
-  StatusInputs in{drive_.od};
-  in.time_ms = drive_.core.time_ms();
-  in.state = drive_.core.state();
-  in.velocity_inc_s = drive_.core.actual_velocity_inc_s();
-  in.temperature_available = drive_.core.plant_params().temperature_available;
+  StatusInputs in{device_.od()};
+  in.time_ms = device_.core().time_ms();
+  in.state = device_.core().state();
+  in.velocity_inc_s = device_.core().actual_velocity_inc_s();
+  in.temperature_available = device_.core().plant_params().temperature_available;
   if (services_.script) {
     in.python = services_.script->status();
     in.refgo.attach_mode = services_.script->refgo_attach_mode();
   }
   in.refgo.clients = services_.refgo_clients ? services_.refgo_clients() : 0;
-  const auto& vars = drive_.refgo.variables();
+  const auto& vars = device_.refgo()->variables();
   in.refgo.repeat_way = vars.repeat_way;
   in.refgo.wait_time_ms = vars.wait_time_ms;
-  in.refgo.back_and_forth = drive_.refgo.programs().back_and_forth_active();
-  if (const auto due = drive_.refgo.programs().jog_stop_due_ms()) {
+  in.refgo.back_and_forth = device_.refgo()->programs().back_and_forth_active();
+  if (const auto due = device_.refgo()->programs().jog_stop_due_ms()) {
     in.refgo.jog_timer_ms = *due > in.time_ms ? *due - in.time_ms : 0;
   }
   in.udp_listeners = services_.udp_listeners ? services_.udp_listeners() : 0;

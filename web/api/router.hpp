@@ -13,8 +13,8 @@
 //
 // Contract: single-threaded (event loop). handle() calls `respond` exactly once, possibly after it
 // has returned (a Store answers when the file is durable, a clock advance after its last step).
-// on_step() must run after every drive step (fault expiry, scope sampling). The dictionary, core
-// and interpreter of Drive outlive the router.
+// The router is not stepped: it reads the drive bundle (device/device.hpp) when asked, and the
+// bundle outlives it.
 #pragma once
 
 #include <cstdint>
@@ -25,41 +25,23 @@
 #include <string>
 #include <vector>
 
-#include "drive/drive_core.hpp"
-#include "drive/od/dictionary.hpp"
-#include "web/api/faults.hpp"
+#include "device/device.hpp"
 #include "web/api/http_types.hpp"
 #include "web/api/pages.hpp"
 #include "web/api/routes.hpp"
-#include "web/api/runtime_settings.hpp"
-#include "web/api/scope.hpp"
 #include "web/api/services.hpp"
 #include "web/api/status.hpp"
 
-namespace mcemu::refgo {
-class Interpreter;
-}
-
 namespace mcemu::web::api {
-
-// The pure drive the API acts on.
-struct Drive {
-  od::ObjectDictionary& od;
-  core::DriveCore& core;
-  refgo::Interpreter& refgo;
-  const model::ModelPreset& preset;  // input pins (web.md §8.5)
-};
 
 class Router {
  public:
-  Router(Drive drive, Services services);
+  Router(device::Device& device, Services services);
   ~Router();
   Router(const Router&) = delete;
   Router& operator=(const Router&) = delete;
 
   void handle(const Request& request, const Respond& respond);
-  // After every drive step: expires fault injections, samples the scope.
-  void on_step();
 
   // A fresh status snapshot (web.md §8.2), seq + 1; the WebSocket hub calls this once per period.
   std::string status_text();
@@ -70,11 +52,8 @@ class Router {
   std::string info_text() const;
   // The inputs of status_text() as they are now (for callers that build the snapshot themselves).
   StatusInputs status_inputs() const;
-
-  Scope& scope() { return scope_; }
-  FaultInjections& faults() { return faults_; }
-  TransportFaults& transport_faults() { return faults_.transport(); }
-  const RuntimeSettings& settings() const { return settings_; }
+  // The drive's runtime settings as GET /api/v1/settings shows them (web.md §8.9).
+  const device::RuntimeSettings& settings() const { return device_.settings(); }
 
   // The route table's documentation rows, in table order.
   static std::vector<RouteDoc> route_docs();
@@ -153,11 +132,8 @@ class Router {
   nlohmann::json script_json(const ScriptView& v) const;
   ClockInfo clock_info() const;
 
-  Drive drive_;
+  device::Device& device_;
   Services services_;
-  RuntimeSettings settings_;
-  FaultInjections faults_;
-  Scope scope_;
   StatusSnapshots snapshots_;
   std::shared_ptr<Router*> self_;  // late completions check this is still alive
 };

@@ -2,7 +2,7 @@
 // fills (server/app.cpp). Every member is optional: an absent hook gives the answer documented
 // next to it (mostly 503 with error code "unavailable"), never a fake success.
 //
-// Threading: all hooks are called on the event-loop thread, from Router::handle() or on_step().
+// Threading: all hooks are called on the event-loop thread, from Router::handle().
 #pragma once
 
 #include <cstdint>
@@ -15,7 +15,6 @@
 #include "drive/od/types.hpp"
 #include "trace/trace.hpp"
 #include "web/api/http_types.hpp"
-#include "web/api/runtime_settings.hpp"
 #include "web/api/status.hpp"
 
 namespace mcemu::web::api {
@@ -127,9 +126,6 @@ struct Services {
   // Every request outside /api/ (pages, static assets, /program.html): returns true if it
   // answered (now or later through respond); false → the 404 page.
   std::function<bool(const Request&, const Respond&)> pages;
-  // Start values of the runtime settings (web.md §8.9) and the hook told after every change.
-  RuntimeSettings settings;
-  std::function<void(const RuntimeSettings&)> settings_changed;
   // The trace ring (web.md §8.6); null = tracing off and 503 for the trace endpoints.
   trace::Ring* trace = nullptr;
   // The script engine; null = no engine in this build (503).

@@ -1,0 +1,38 @@
+#include "device/parts.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+namespace mcemu::device {
+
+std::uint64_t FaultsPart::quiet_steps() const {
+  const auto e = faults_.next_expiry();
+  return e ? sim::steps_before(*e, core_.time_ms()) : sim::k_forever;
+}
+
+void ScopePart::skip(std::uint64_t n) {
+  const std::uint64_t now = core_.time_ms();  // after the core's skip
+  const std::uint64_t from = now - std::min<std::uint64_t>(n, Scope::k_window_ms) + 1;
+  for (std::uint64_t t = (from + Scope::k_sample_ms - 1) / Scope::k_sample_ms * Scope::k_sample_ms; t <= now;
+       t += Scope::k_sample_ms) {
+    scope_.on_step(t, od_);
+  }
+}
+
+std::uint64_t RefgoPart::quiet_steps() const {
+  const auto& p = refgo_.programs();
+  if (p.back_and_forth_active()) return 0;  // follows the drive every step
+  const auto due = p.jog_stop_due_ms();
+  return due ? sim::steps_before(*due, core_.time_ms()) : sim::k_forever;
+}
+
+std::uint64_t CanopenPart::quiet_steps() const {
+  const auto d = bus_.node().next_deadline();
+  if (!d) return sim::k_forever;
+  const auto now = bus_.now().count();
+  return d->count() > now ? static_cast<std::uint64_t>(d->count() - now - 1) : 0;
+}
+
+void CanopenPart::skip(std::uint64_t n) { bus_.step(std::chrono::milliseconds(static_cast<std::int64_t>(n))); }
+
+}  // namespace mcemu::device

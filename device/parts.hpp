@@ -1,0 +1,72 @@
+// The parts a drive bundle steps after its drive core (sim/drive_steps.hpp), each saying how many
+// steps it can be left alone: fault-injection durations, the scope sampler, the RefGo programs and
+// the CANopen bus. The order of the parts is the bundle's (device/device.hpp).
+#pragma once
+
+#include <cstdint>
+
+#include "device/canopen_bus.hpp"
+#include "device/faults.hpp"
+#include "device/scope.hpp"
+#include "drive/drive_core.hpp"
+#include "protocols/refgo/interpreter.hpp"
+#include "sim/drive_steps.hpp"
+
+namespace mcemu::device {
+
+// Removes fault injections whose drive-time duration is over or whose count is used up.
+class FaultsPart final : public sim::Part {
+ public:
+  FaultsPart(FaultInjections& faults, const core::DriveCore& core) : faults_(faults), core_(core) {}
+  void step() override { faults_.on_step(); }
+  std::uint64_t quiet_steps() const override;
+
+ private:
+  FaultInjections& faults_;
+  const core::DriveCore& core_;
+};
+
+// The scope of web.md §5.3: a sample every 5 ms of drive time. In a quiet stretch the sampled
+// objects are constant, so a skip adds the samples it passed (the last 60 s of them) at once.
+class ScopePart final : public sim::Part {
+ public:
+  ScopePart(Scope& scope, const core::DriveCore& core, const od::ObjectDictionary& od)
+      : scope_(scope), core_(core), od_(od) {}
+  void step() override { scope_.on_step(core_.time_ms(), od_); }
+  std::uint64_t quiet_steps() const override { return sim::k_forever; }
+  void skip(std::uint64_t n) override;
+
+ private:
+  Scope& scope_;
+  const core::DriveCore& core_;
+  const od::ObjectDictionary& od_;
+};
+
+// The RefGo interpreter's programs: the jog timer and Back & Forth (refgo.md §7.6, §7.7).
+class RefgoPart final : public sim::Part {
+ public:
+  RefgoPart(refgo::Interpreter& refgo, const core::DriveCore& core) : refgo_(refgo), core_(core) {}
+  void step() override { refgo_.on_step(); }
+  std::uint64_t quiet_steps() const override;
+
+ private:
+  refgo::Interpreter& refgo_;
+  const core::DriveCore& core_;
+};
+
+// The CANopen bus: stepped after the drive and the event hand-off, quiet until the node's next
+// deadline (boot-up, heartbeat, TPDO event/inhibit timers, SDO timeout, life guarding, pending
+// output). A skip advances the bus time and runs the node once at the end, which does nothing when
+// no deadline fell inside (the node's advance() at a time before every deadline is a no-op).
+class CanopenPart final : public sim::Part {
+ public:
+  explicit CanopenPart(CanopenBus& bus) : bus_(bus) {}
+  void step() override { bus_.step(); }
+  std::uint64_t quiet_steps() const override;
+  void skip(std::uint64_t n) override;
+
+ private:
+  CanopenBus& bus_;
+};
+
+}  // namespace mcemu::device

@@ -1,0 +1,21 @@
+#include "device/personality.hpp"
+
+namespace mcemu::device {
+
+const Personality& movingcap() {
+  static const Personality p{
+      .name = "movingcap",
+      .refgo = true,
+      .canopen = true,
+      .udp_debug = true,
+      .drive_pages = true,
+      .code_scripts = true,
+      .io_functions = true,
+      .morse_status_led = true,
+  };
+  return p;
+}
+
+const Personality& personality_of(const model::ModelPreset&) { return movingcap(); }
+
+}  // namespace mcemu::device

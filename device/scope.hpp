@@ -1,0 +1,69 @@
+// The scope sampler of web.md §5.3 and §8.7: every 5 ms of drive time one sample of position
+// 6064h, velocity 606Ch, current 6078h, target 607Ah and statusword 6041h, in a ring of 60 s.
+//
+// PURE and single-threaded. Contract: on_step() runs after every drive step with the drive time
+// after the step; it samples when that time is a multiple of 5 ms. Samples are contiguous (sample k
+// of a block is at t0 + 5·k): a gap in the sample times (a step skipped by the caller) or drive time
+// going backwards (a power cycle that restarts the clock) starts the ring anew.
+// since_ms() answers GET /api/v1/scope?sinceMs=T; take_new() returns the samples since its
+// previous call (the WebSocket "scope" message, once per period, shared by all clients).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "drive/od/dictionary.hpp"
+
+namespace mcemu::device {
+
+struct ScopeSample {
+  std::int32_t pos = 0;
+  std::int32_t vel = 0;
+  std::int32_t cur = 0;
+  std::int32_t target = 0;
+  std::uint16_t sw = 0;
+};
+
+struct ScopeBlock {
+  std::uint64_t sample_ms = 5;
+  std::uint64_t t0 = 0;  // drive time of the first sample (of the next one when empty)
+  std::vector<ScopeSample> samples;
+};
+
+class Scope {
+ public:
+  static constexpr std::uint64_t k_sample_ms = 5;
+  static constexpr std::uint64_t k_window_ms = 60000;
+  static constexpr std::size_t k_capacity = k_window_ms / k_sample_ms;
+
+  // After every drive step: samples the objects when time_ms is a multiple of k_sample_ms.
+  void on_step(std::uint64_t time_ms, const od::ObjectDictionary& od);
+  // One sample at time_ms (tests; on_step() reads the objects and calls this).
+  void add(std::uint64_t time_ms, const ScopeSample& s);
+
+  // Samples from the first sample time ≥ t (at most the ring, 60 s).
+  ScopeBlock since_ms(std::uint64_t t) const;
+  // Samples added since the previous call (all of the ring on the first call).
+  ScopeBlock take_new();
+
+  std::size_t size() const { return ring_.size(); }
+
+ private:
+  ScopeBlock block_from(std::size_t first) const;
+  std::uint64_t time_of(std::size_t i) const { return first_ms_ + i * k_sample_ms; }
+
+  std::deque<ScopeSample> ring_;
+  std::uint64_t first_ms_ = 0;     // time of ring_[0]
+  std::uint64_t next_new_ms_ = 0;  // first sample time take_new() has not returned
+};
+
+// {"sampleMs": 5, "t0": …, "pos": […], "vel": […], "cur": […], "target": […], "sw": […]}
+nlohmann::json scope_json(const ScopeBlock& b);
+// The WebSocket message of web.md §10.3: scope_json() plus "type": "scope".
+std::string scope_message(const ScopeBlock& b);
+
+}  // namespace mcemu::device
