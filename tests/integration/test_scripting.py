@@ -453,7 +453,7 @@ class NmtResetNode(unittest.TestCase):
 
 
 class EngineUnavailable(unittest.TestCase):
-    """scripting.md §10.1.8 / §10.8 with a python3 that does not exist ("scripting.python" of --config)."""
+    """scripting.md §10.1.8 with a python3 that does not exist ("scripting.python" of --config)."""
 
     def test_everything_else_works(self):
         with tempfile.NamedTemporaryFile("w", suffix=".json", prefix="scr2-", delete=False) as f:

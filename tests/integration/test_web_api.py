@@ -229,7 +229,7 @@ class WebApi(unittest.TestCase):
         self.assert_error(status, body, 409, "conflict")
 
     def test_503_engine_unavailable(self):
-        # scripting.md §10.8: a host without a usable python3 (here: one that does not exist)
+        # scripting.md §10.1.8: a host without a usable python3 (here: one that does not exist)
         with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
             json.dump({"scripting": {"python": "/nonexistent/python3"}}, f)
         try:
