@@ -214,6 +214,10 @@ void DriveCore::reload_parameters() {
   settled_ = false;
   update_scaling();
   update_inertia_ctrl(std::nullopt, std::nullopt);
+  if (fh_ && powered_) {
+    fh_publish_inputs();  // a bulk load may have brought other 2310h masks or polarity
+    update_statusword();
+  }
 }
 
 void DriveCore::step(std::uint64_t n) {
