@@ -108,6 +108,7 @@ TEST(FaulhaberLimitSwitch, ProfilePositionIntoAnActiveSwitchDoesNotMove) {
   d.step(1000);
   EXPECT_LE(std::llabs(d.read(0x6064)), 5);
   EXPECT_NE(d.sw() & 0x0800, 0);
+  EXPECT_NE(d.sw() & 0x0400, 0) << "cut short like a set-point clamped at a software limit";
   d.set(0x607A, 0, -20000);
   d.cw(0x1F);
   d.cw(0x0F);
@@ -115,6 +116,25 @@ TEST(FaulhaberLimitSwitch, ProfilePositionIntoAnActiveSwitchDoesNotMove) {
   EXPECT_LE(std::llabs(d.read(0x6064) + 20000), d.read(0x6067));
   d.core.set_external_input_level(1, true);  // switch released
   EXPECT_EQ(d.read(0x2324, 1) & k_bit_pos, 0);
+}
+
+TEST(FaulhaberDeviceStatus, SoftLimitBits) {
+  Drive d("FH_MC5005");
+  d.set(0x607D, 1, -1000);
+  d.set(0x607D, 2, 1000);
+  d.enable(1);
+  EXPECT_EQ(d.read(0x2324, 1) & 0x300, 0);
+  d.set(0x607A, 0, 5000);
+  d.cw(0x1F);
+  d.cw(0x0F);
+  ASSERT_LE(d.step_until([&] { return (d.sw() & 0x0400) != 0; }, 3000), 3000u);
+  EXPECT_NE(d.read(0x2324, 1) & (1 << 8), 0) << "at the positive software limit";
+  d.set(0x607A, 0, -5000);
+  d.cw(0x1F);
+  d.cw(0x0F);
+  ASSERT_LE(d.step_until([&] { return (d.sw() & 0x0400) != 0; }, 3000), 3000u);
+  EXPECT_EQ(d.read(0x2324, 1) & (1 << 8), 0);
+  EXPECT_NE(d.read(0x2324, 1) & (1 << 9), 0) << "at the negative software limit";
 }
 
 struct OutputCase {
