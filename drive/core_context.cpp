@@ -5,8 +5,17 @@
 
 namespace mcemu::core {
 
-Handles Handles::resolve(const od::ObjectDictionary& od) {
+Handles Handles::resolve(const od::ObjectDictionary& od, const model::ModelPreset& preset) {
   const auto h = [&](std::uint16_t i, std::uint8_t s) { return od.handle(i, s); };
+  const auto param = [&](std::uint16_t i, std::uint8_t s) {
+    Param p;
+    p.handle = od.find(i, s);
+    if (!p.handle) {
+      const auto it = preset.core_constants.find(model::ObjectKey{i, s});
+      if (it != preset.core_constants.end()) p.constant = it->second;
+    }
+    return p;
+  };
   Handles r{};
   r.controlword = h(0x6040, 0);
   r.statusword = h(0x6041, 0);
@@ -17,17 +26,17 @@ Handles Handles::resolve(const od::ObjectDictionary& od) {
   r.pos_actual_user = h(0x6064, 0);
   r.vel_demand = h(0x606B, 0);
   r.vel_actual = h(0x606C, 0);
-  r.current = h(0x6078, 0);
+  r.current = od.find(0x6078, 0);
   r.pos_demand_inc = h(0x60FC, 0);
-  r.inputs = h(0x60FD, 0);
+  r.inputs = od.find(0x60FD, 0);
   r.error_register = h(0x1001, 0);
-  r.mfr_status = h(0x1002, 0);
+  r.mfr_status = od.find(0x1002, 0);
   r.error_code = h(0x603F, 0);
   for (std::uint8_t s = 0; s <= 4; ++s) r.history[s] = h(0x1003, s);
-  r.abort_connection_option = h(0x6007, 0);
-  r.stroke_option = h(0x6059, 1);
-  r.stroke_position = h(0x6059, 2);
-  r.stroke_velocity = h(0x6059, 3);
+  r.abort_connection_option = param(0x6007, 0);
+  r.stroke_option = param(0x6059, 1);
+  r.stroke_position = param(0x6059, 2);
+  r.stroke_velocity = param(0x6059, 3);
   r.quick_stop_option = h(0x605A, 0);
   r.shutdown_option = h(0x605B, 0);
   r.disable_option = h(0x605C, 0);
@@ -39,7 +48,7 @@ Handles Handles::resolve(const od::ObjectDictionary& od) {
   r.vel_window_time = h(0x606E, 0);
   r.vel_threshold = h(0x606F, 0);
   r.vel_threshold_time = h(0x6070, 0);
-  r.max_current = h(0x6073, 0);
+  r.max_current = od.find(0x6073, 0);
   r.target_pos = h(0x607A, 0);
   r.home_offset = h(0x607C, 0);
   r.limit_min = h(0x607D, 1);
@@ -61,21 +70,23 @@ Handles Handles::resolve(const od::ObjectDictionary& od) {
   r.homing_speed_switch = h(0x6099, 1);
   r.homing_speed_zero = h(0x6099, 2);
   r.homing_acc = h(0x609A, 0);
-  r.max_acc = h(0x60C5, 0);
-  r.max_dec = h(0x60C6, 0);
-  r.pos_option = h(0x60F2, 0);
+  r.max_acc = od.find(0x60C5, 0);
+  r.max_dec = od.find(0x60C6, 0);
+  r.pos_option = param(0x60F2, 0);
   r.target_vel = h(0x60FF, 0);
   r.supported_modes = h(0x6502, 0);
-  r.block_count_max = h(0x3401, 0x01);
-  r.block_speed = h(0x3401, 0x02);
-  r.temperature = h(0x3401, 0x0A);
-  r.torque_acc = h(0x3401, 0x15);
-  r.torque_dec = h(0x3401, 0x16);
-  r.torque_stall = h(0x3401, 0x18);
-  r.block_mask = h(0x3401, 0x1A);
-  r.virtual_inputs = h(0x3510, 1);
-  r.outputs = h(0x60FE, 1);
-  for (int i = 0; i < 10; ++i) r.input_function[i] = h(static_cast<std::uint16_t>(0x3511 + i), 1);
+  r.block_count_max = param(0x3401, 0x01);
+  r.block_speed = param(0x3401, 0x02);
+  r.temperature = od.find(0x3401, 0x0A);
+  r.torque_acc = od.find(0x3401, 0x15);
+  r.torque_dec = od.find(0x3401, 0x16);
+  r.torque_stall = od.find(0x3401, 0x18);
+  r.block_mask = param(0x3401, 0x1A);
+  r.virtual_inputs = param(0x3510, 1);
+  r.outputs = param(0x60FE, 1);
+  for (std::size_t i = 0; i < r.input_function.size(); ++i) {
+    r.input_function[i] = param(static_cast<std::uint16_t>(0x3511 + i), 1);
+  }
   r.following_error = od.find(0x60F4, 0);
   r.jerk = od.find(0x60A4, 0);
   r.switch_select = od.find(0x60B8, 0);
@@ -90,14 +101,19 @@ double CoreContext::accel_of(od::Handle handle) const {
   return scaling.acceleration_to_inc_s2(static_cast<double>(num(handle)));
 }
 
-double CoreContext::profile_accel() const { return std::min(accel_of(h.profile_acc), accel_of(h.max_acc)); }
+// 60C5h/60C6h bound the profile where the family has them (a FAULHABER drive has not)
+double CoreContext::profile_accel() const {
+  return h.max_acc ? std::min(accel_of(h.profile_acc), accel_of(*h.max_acc)) : accel_of(h.profile_acc);
+}
 
 double CoreContext::profile_decel() const {
   if (rabbit()) return profile_accel();
-  return std::min(accel_of(h.profile_dec), accel_of(h.max_dec));
+  return ramp_decel_6084();
 }
 
-double CoreContext::ramp_decel_6084() const { return std::min(accel_of(h.profile_dec), accel_of(h.max_dec)); }
+double CoreContext::ramp_decel_6084() const {
+  return h.max_dec ? std::min(accel_of(h.profile_dec), accel_of(*h.max_dec)) : accel_of(h.profile_dec);
+}
 
 double CoreContext::quick_stop_decel() const { return accel_of(h.quick_stop_dec); }
 

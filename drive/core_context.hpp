@@ -19,28 +19,38 @@
 
 namespace mcemu::core {
 
-// Handles of the entries the core reads and writes (§14). Entries that exist on every model are
-// plain handles; the others are optional.
+// An entry the core reads that a family's dictionary may not have (a FAULHABER drive has no
+// 3401h, 3510h, 351xh, 6007h, 6059h, 60F2h, 60FEh): the entry, or the preset's constant
+// (ModelPreset::core_constants, else 0). On a MovingCap dictionary every Param has its handle.
+struct Param {
+  std::optional<od::Handle> handle;
+  std::int64_t constant = 0;
+};
+
+// Handles of the entries the core reads and writes (§14). Plain handles: every family's dictionary
+// has them. Params: read, a constant where absent. Optional handles: used only where present.
 struct Handles {
   od::Handle controlword, statusword, mode, mode_display;
-  od::Handle pos_demand_user, pos_actual_inc, pos_actual_user, vel_demand, vel_actual, current;
-  od::Handle pos_demand_inc, inputs, error_register, mfr_status, error_code;
+  od::Handle pos_demand_user, pos_actual_inc, pos_actual_user, vel_demand, vel_actual;
+  od::Handle pos_demand_inc, error_register, error_code;
   std::array<od::Handle, 5> history;  // 1003h.00 … .04
-  od::Handle abort_connection_option, stroke_option, stroke_position, stroke_velocity;
   od::Handle quick_stop_option, shutdown_option, disable_option, halt_option, fault_option;
   od::Handle pos_window, pos_window_time, vel_window, vel_window_time, vel_threshold, vel_threshold_time;
-  od::Handle max_current, target_pos, home_offset, limit_min, limit_max, polarity;
+  od::Handle target_pos, home_offset, limit_min, limit_max, polarity;
   od::Handle max_profile_vel, max_motor_speed, profile_vel, profile_acc, profile_dec, quick_stop_dec;
   od::Handle enc_inc, enc_rev, gear_motor, gear_shaft, feed, feed_shaft;
   od::Handle homing_method, homing_speed_switch, homing_speed_zero, homing_acc;
-  od::Handle max_acc, max_dec, pos_option, target_vel, supported_modes;
-  od::Handle block_count_max, block_speed, temperature, torque_acc, torque_dec, torque_stall, block_mask;
-  od::Handle virtual_inputs, outputs;
-  std::array<od::Handle, 10> input_function;  // 3511h … 351Ah .01
+  od::Handle target_vel, supported_modes;
+  Param abort_connection_option, stroke_option, stroke_position, stroke_velocity, pos_option;
+  Param block_count_max, block_speed, block_mask, virtual_inputs, outputs;
+  std::array<Param, 10> input_function;  // 3511h … 351Ah .01
+  // written only where present: 6078h, 60FDh, 1002h (else DriveCore keeps the bits), 3401h.0Ah
+  std::optional<od::Handle> current, inputs, mfr_status, temperature;
+  std::optional<od::Handle> max_acc, max_dec, max_current, torque_acc, torque_dec, torque_stall;
   std::optional<od::Handle> following_error, jerk, switch_select, motor_weight, payload;
 
-  // Throws std::out_of_range when an entry every model has is missing (a broken dictionary).
-  static Handles resolve(const od::ObjectDictionary& od);
+  // Throws std::out_of_range when an entry every family has is missing (a broken dictionary).
+  static Handles resolve(const od::ObjectDictionary& od, const model::ModelPreset& preset);
 };
 
 // Soft position limits 607Dh (§7.10): on when not both 0 and min < max.
@@ -52,7 +62,7 @@ struct SoftLimits {
 
 struct CoreContext {
   CoreContext(od::ObjectDictionary& dict, const model::ModelPreset& model, const PlantParams& plant)
-      : od(dict), preset(model), params(plant), h(Handles::resolve(dict)), gen(model.is_rabbit()) {}
+      : od(dict), preset(model), params(plant), h(Handles::resolve(dict, model)), gen(model.is_rabbit()) {}
 
   od::ObjectDictionary& od;
   const model::ModelPreset& preset;
@@ -65,9 +75,16 @@ struct CoreContext {
   std::int64_t actual_raw_inc = 0;   // round(plant position), raw frame
   double actual_velocity_inc_s = 0;  // displacement of the last step / 1 ms
   std::uint32_t inputs = 0;          // 60FDh
+  // FAULHABER limit switches (2310h.01/.02 on the logical inputs, faulhaber.md §8)
+  bool limit_negative = false;
+  bool limit_positive = false;
+  bool limit_negative_configured = false;  // 2310h.01 names an existing input
+  bool limit_positive_configured = false;
   std::vector<Event> events;
 
   std::int64_t num(od::Handle handle) const { return od.number(handle); }
+  std::int64_t num(const Param& p) const { return p.handle ? od.number(*p.handle) : p.constant; }
+  bool faulhaber() const { return preset.is_faulhaber(); }
   void emit(Event e) { events.push_back(std::move(e)); }
   bool rabbit() const { return preset.is_rabbit(); }
 

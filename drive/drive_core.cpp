@@ -22,6 +22,7 @@ DriveCore::DriveCore(const model::ModelPreset& preset, od::ObjectDictionary& od,
       pp_(ctx_),
       pv_(ctx_),
       hm_(ctx_) {
+  if (preset_.is_faulhaber()) fh_ = faulhaber::FhHandles::resolve(od);
   update_scaling();
   update_inertia_ctrl(std::nullopt, std::nullopt);
   install_hooks();
@@ -31,6 +32,16 @@ DriveCore::DriveCore(const model::ModelPreset& preset, od::ObjectDictionary& od,
 DriveCore::~DriveCore() {
   for (const auto& [index, sub] : write_hooks_) ctx_.od.on_write(index, sub, {});
   for (const auto& [index, sub] : read_hooks_) ctx_.od.on_read(index, sub, {});
+}
+
+std::int64_t DriveCore::mfr() const { return ctx_.h.mfr_status ? ctx_.od.number(*ctx_.h.mfr_status) : mfr_bits_; }
+
+void DriveCore::set_mfr(std::int64_t bits) {
+  if (ctx_.h.mfr_status) {
+    ctx_.od.set(*ctx_.h.mfr_status, od::Value{bits});
+  } else {
+    mfr_bits_ = bits;
+  }
 }
 
 void DriveCore::hook_write(std::uint16_t index, std::uint8_t sub, od::WriteHook hook) {
@@ -142,6 +153,7 @@ void DriveCore::install_hooks() {
     }
     return od::AbortCode::none;
   });
+  if (fh_) install_faulhaber_hooks();
 }
 
 void DriveCore::power_on(const PowerOnState& state) {
@@ -184,7 +196,8 @@ void DriveCore::power_on(const PowerOnState& state) {
   auto& od = ctx_.od;
   const auto& h = ctx_.h;
   od.set(h.mode_display, od::Value{std::int64_t{0}});
-  od.set(h.mfr_status, od::Value{std::int64_t{0}});
+  set_mfr(0);
+  fh_temperature_warning_ = false;
   od.set(h.error_register, od::Value{std::int64_t{0}});
   od.set(h.error_code, od::Value{std::int64_t{0}});
   for (std::size_t s = 1; s < h.history.size(); ++s) od.set(h.history[s], od::Value{std::int64_t{0}});
@@ -192,6 +205,7 @@ void DriveCore::power_on(const PowerOnState& state) {
   od.set(h.supported_modes, od::Value{static_cast<std::int64_t>(preset_.supported_modes)});
   publish_inputs(false);
   write_actuals();
+  if (fh_) fh_power_on();
   statusword_ = 0;
   od.set(h.statusword, od::Value{std::int64_t{0}});
 }
@@ -200,6 +214,10 @@ void DriveCore::reload_parameters() {
   settled_ = false;
   update_scaling();
   update_inertia_ctrl(std::nullopt, std::nullopt);
+  if (fh_ && powered_) {
+    fh_publish_inputs();  // a bulk load may have brought other 2310h masks or polarity
+    update_statusword();
+  }
 }
 
 void DriveCore::step(std::uint64_t n) {
@@ -305,6 +323,19 @@ bool DriveCore::set_external_input_level(int input, bool high) {
   if (std::find(preset_.input_pins.begin(), preset_.input_pins.end(), input) == preset_.input_pins.end()) return false;
   external_level_[static_cast<std::size_t>(input)] = high;
   if (powered_) publish_inputs(true);
+  if (powered_ && fh_) update_statusword();  // 2311h, 2324h.01 and bit 11 inside the call
+  return true;
+}
+
+bool DriveCore::set_external_input_levels(std::uint32_t levels) {
+  settled_ = false;
+  for (int n = 1; n <= 32; ++n) {
+    if (!((levels >> (n - 1)) & 1u)) continue;
+    if (std::find(preset_.input_pins.begin(), preset_.input_pins.end(), n) == preset_.input_pins.end()) return false;
+  }
+  for (const int n : preset_.input_pins) external_level_[static_cast<std::size_t>(n)] = ((levels >> (n - 1)) & 1u) != 0;
+  if (powered_) publish_inputs(true);
+  if (powered_ && fh_) update_statusword();
   return true;
 }
 
@@ -329,6 +360,7 @@ void DriveCore::send_script_emcy(std::uint32_t error_number, std::uint8_t error_
 void DriveCore::recompute_inputs() {
   settled_ = false;
   if (powered_) publish_inputs(true);
+  if (powered_ && fh_) update_statusword();
 }
 
 std::vector<Event> DriveCore::drain_events() {

@@ -1,5 +1,7 @@
-// The simulated MovingCap drive (drive-core.md): CiA 402 state machine, profile position /
-// velocity / homing on a physical plant, scaling, soft limits, faults and EMCY.
+// The simulated drive (drive-core.md): CiA 402 state machine, profile position / velocity / homing
+// on a physical plant, scaling, soft limits, faults and EMCY. One core serves both families of
+// presets: a MovingCap drive, and a FAULHABER MotionController with the drive differences of
+// faulhaber.md §7 (drive_core_faulhaber.cpp) — chosen by ModelPreset::family, nothing else.
 //
 // Contract:
 // - Pure and single-threaded: no clock, I/O, threads, logging or randomness. Time moves only by
@@ -12,16 +14,19 @@
 // - Not copyable or movable (hooks capture `this`); the destructor removes the hooks again.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "drive/core_context.hpp"
 #include "drive/core_types.hpp"
 #include "drive/events.hpp"
+#include "drive/faulhaber/fh_objects.hpp"
 #include "drive/faults.hpp"
 #include "drive/model/model_preset.hpp"
 #include "drive/modes/homing.hpp"
@@ -88,6 +93,12 @@ class DriveCore {
   // the wire levels of IN1…IN10 as bits 16…25 (60FDh without 3510h.01): simulation-API levels,
   // position switches and combined-pin feedback (iofunc.md §2.1; web.md §8.5 "physical")
   std::uint32_t physical_inputs() const;
+  // The fault and warning bits in the 1002h layout of drive/faults.hpp (bit 0 over-voltage …, 16
+  // sensor warning): 1002h itself on a MovingCap drive; kept by the core on a FAULHABER drive,
+  // which has no 1002h (it shows them as 2320h, faulhaber.md §8).
+  std::uint32_t fault_bits() const { return static_cast<std::uint32_t>(mfr()); }
+  // FAULHABER: the temperature warning (2320h bit 4) is on; always false on a MovingCap drive.
+  bool temperature_warning() const { return fh_temperature_warning_; }
 
   // ---- commands used by the helpers (§12)
   void apply_mode_switch_now();      // §6.3 at once
@@ -103,7 +114,10 @@ class DriveCore {
   ObstacleId add_obstacle(const Obstacle& obstacle);
   void remove_obstacle(ObstacleId id);
   bool set_external_input_level(int input, bool high);  // false: no such pin on the model
-  void connection_lost();                               // §11.6
+  // All input levels at once, bit n−1 = input n (FAULHABER: DigIn n, what 2311h.02 shows); one
+  // recomputation. false and nothing changed when a bit names an input without a pin.
+  bool set_external_input_levels(std::uint32_t levels);
+  void connection_lost();  // §11.6
   // §11.8 mcdrive.SendEmcyMsg: an EMCY with bytes code, register, error number (u32 LE), 0.
   // Changes no object and no state.
   void send_script_emcy(std::uint32_t error_number, std::uint8_t error_register = 0, std::uint16_t error_code = 0x509B);
@@ -125,6 +139,8 @@ class DriveCore {
 
   // drive_core.cpp
   void install_hooks();
+  std::int64_t mfr() const;         // 1002h, or the core's own bits where the family has no 1002h
+  void set_mfr(std::int64_t bits);  // the same, written
   void hook_write(std::uint16_t index, std::uint8_t sub, od::WriteHook hook);
   void hook_read(std::uint16_t index, std::uint8_t sub, od::ReadHook hook);
   FactorGroup stored_factor_group() const;  // 608Fh/6091h/6092h/607Eh as stored
@@ -154,8 +170,23 @@ class DriveCore {
   void on_block_detected(bool masked);
   void stroke_reaction();
   void after_homing();
+  // drive_core_faulhaber.cpp (FAULHABER family only, faulhaber.md §7–§8)
+  void install_faulhaber_hooks();
+  void fh_power_on();
+  void fh_publish_inputs();
+  void fh_apply_input_config(const faulhaber::InputConfig& config);
+  faulhaber::InputConfig fh_input_config() const;
+  std::uint32_t fh_device_status() const;  // 2324h.01 from the present state
+  void fh_publish_status();
+  void fh_raise(FaultCause cause, std::int64_t next_bits);
+  void fh_fault_reset_done(std::int64_t bits);
+  void fh_check_temperature_warning();
+  void fh_limit_switch_guard();
+  std::pair<double, double> fh_torque_limits() const;  // N·m (positive, negative direction)
+  bool fh_emcy_enabled(int error_bit) const;           // 2321h.01 lets this 2320h bit's EMCY through
   // drive_core_step.cpp
   void mode_switch();
+  void mode_switch_to(std::int8_t requested);
   void enter_mode(std::int8_t mode);
   void leave_mode(std::int8_t mode);
   void generate();
@@ -207,6 +238,10 @@ class DriveCore {
   std::optional<double> supply_set_;
   double ambient_c_ = 25;
   std::array<bool, 11> external_level_{};
+  // FAULHABER: the objects of faulhaber.md §8 the core maintains (nullopt on a MovingCap drive)
+  std::optional<faulhaber::FhHandles> fh_;
+  std::int64_t mfr_bits_ = 0;  // fault bits where the dictionary has no 1002h
+  bool fh_temperature_warning_ = false;
   std::uint32_t injected_ = 0;  // bit = FaultCause
   std::uint32_t deferred_ = 0;  // event causes injected before the second step
   int uv_count_ = 0;

@@ -41,10 +41,11 @@ std::uint32_t DriveCore::physical_inputs() const {
 
 void DriveCore::publish_inputs(bool report) {
   const std::uint32_t word = compute_inputs();
-  if (word == ctx_.inputs && ctx_.od.number(ctx_.h.inputs) == word) return;
+  if (word == ctx_.inputs && (!ctx_.h.inputs || ctx_.od.number(*ctx_.h.inputs) == word)) return;
   const std::uint32_t old = ctx_.inputs;
   ctx_.inputs = word;
-  put(ctx_.od, ctx_.h.inputs, word);
+  if (ctx_.h.inputs) put(ctx_.od, *ctx_.h.inputs, word);
+  if (fh_) fh_publish_inputs();
   if (!report || old == word) return;
   if (observer_) observer_(old, word);
   ctx_.emit(InputsChanged{old, word});
@@ -71,10 +72,17 @@ void DriveCore::write_actuals() {
   put(od, h.pos_actual_user, wrap_i32(actual_user));
   if (h.following_error) put(od, *h.following_error, wrap_i32(sc.distance_to_user(demand - actual)));
   write_velocity_objects();
-  put(od, h.current, std::clamp<std::int64_t>(current_permille_, -32768, 32767));
-  const std::int64_t temp =
-      params_.temperature_available ? std::clamp<std::int64_t>(round_half_away(temperature_c()), 0, 255) : 0;
-  put(od, h.temperature, temp);
+  if (h.current) put(od, *h.current, std::clamp<std::int64_t>(current_permille_, -32768, 32767));
+  if (fh_) {
+    // 6077h: ‰ of the rated (continuous) torque (faulhaber.md §7.3)
+    const double permille = torque_on_ ? 1000.0 * plant_out_.mean_torque / params_.torque_cont : 0.0;
+    put(od, fh_->torque_actual, std::clamp<std::int64_t>(round_half_away(permille), -32768, 32767));
+  }
+  if (h.temperature) {
+    const std::int64_t temp =
+        params_.temperature_available ? std::clamp<std::int64_t>(round_half_away(temperature_c()), 0, 255) : 0;
+    put(od, *h.temperature, temp);
+  }
 }
 
 void DriveCore::write_velocity_objects() {
@@ -95,7 +103,7 @@ std::uint16_t DriveCore::compose_statusword() const {
     case PdsState::fault_reaction_active: sw = 0x000F; break;
     case PdsState::fault: sw = 0x0008; break;
   }
-  if (ctx_.od.number(ctx_.h.mfr_status) & 0xFFFF0000LL) sw |= 0x0080;
+  if ((mfr() & 0xFFFF0000LL) || fh_temperature_warning_) sw |= 0x0080;
   if (state_ != PdsState::fault &&
       ((torque_on_ && ctx_.gen.active()) || std::fabs(ctx_.actual_velocity_inc_s) > params_.moving_threshold_inc_s)) {
     sw |= 0x0100;
@@ -109,15 +117,17 @@ std::uint16_t DriveCore::compose_statusword() const {
     if (ctx_.gen.finished() && pending_ != Pending::none) sw |= 0x0400;
     return sw;
   }
+  // FAULHABER: an active limit switch is an internal limit in PP and PV (faulhaber.md §8)
+  const bool switch_limit = ctx_.limit_negative || ctx_.limit_positive;
   switch (mode_) {
     case 1:
       if (pp_.target_reached()) sw |= 0x0400;
-      if (pp_.internal_limit()) sw |= 0x0800;
+      if (pp_.internal_limit() || switch_limit) sw |= 0x0800;
       if (pp_.ack()) sw |= 0x1000;
       break;
     case 3:
       if (pv_.target_reached()) sw |= 0x0400;
-      if (pv_.internal_limit()) sw |= 0x0800;
+      if (pv_.internal_limit() || switch_limit) sw |= 0x0800;
       if (pv_.speed_zero()) sw |= 0x1000;
       break;
     case 6:
@@ -137,6 +147,7 @@ std::uint16_t DriveCore::compose_statusword() const {
 }
 
 void DriveCore::update_statusword() {
+  if (fh_) fh_publish_status();
   const std::uint16_t next = compose_statusword();
   if (next == statusword_) return;
   const std::uint16_t old = statusword_;

@@ -294,15 +294,19 @@ void DriveCore::raise(FaultCause cause) {
   if (info.kind == FaultKind::warning) return;
   auto& od = ctx_.od;
   const std::int64_t bit = std::int64_t{1} << info.bit;
-  const std::int64_t mfr = od.number(ctx_.h.mfr_status);
+  const std::int64_t mfr = this->mfr();
   if (mfr & bit) return;
   const std::int64_t next = mfr | bit;
-  od.set(ctx_.h.mfr_status, num(next));
-  od.set(ctx_.h.error_register, num(error_register(static_cast<std::uint32_t>(next))));
-  od.set(ctx_.h.error_code, num(info.code));
-  record_history(info.code);
-  ctx_.emit(FaultRaised{cause, info.code});
-  ctx_.emit(Emcy{info.code, info.reg, {}});
+  if (fh_) {
+    fh_raise(cause, next);
+  } else {
+    set_mfr(next);
+    od.set(ctx_.h.error_register, num(error_register(static_cast<std::uint32_t>(next))));
+    od.set(ctx_.h.error_code, num(info.code));
+    record_history(info.code);
+    ctx_.emit(FaultRaised{cause, info.code});
+    ctx_.emit(Emcy{info.code, info.reg, {}});
+  }
   if (state_ == PdsState::fault || state_ == PdsState::not_ready_to_switch_on) return;
   if (state_ == PdsState::fault_reaction_active) {
     if (info.torque_off) set_state(PdsState::fault, 14);
@@ -339,7 +343,7 @@ bool DriveCore::reset_allowed(FaultCause cause) const {
 }
 
 void DriveCore::try_fault_reset() {
-  const std::int64_t mfr = ctx_.od.number(ctx_.h.mfr_status);
+  const std::int64_t mfr = this->mfr();
   std::vector<FaultCause> blocking;
   for (const FaultInfo& f : fault_table()) {
     if (f.kind == FaultKind::warning) continue;
@@ -355,9 +359,13 @@ void DriveCore::try_fault_reset() {
     ctx_.emit(FaultResetRefused{std::move(blocking)});
     return;
   }
-  auto& od = ctx_.od;
-  od.set(ctx_.h.mfr_status, num(mfr & ~static_cast<std::int64_t>(k_error_bits_mask)));
-  od.set(ctx_.h.error_register, num(0));
+  const std::int64_t kept = mfr & ~static_cast<std::int64_t>(k_error_bits_mask);
+  set_mfr(kept);
+  if (fh_) {
+    fh_fault_reset_done(kept);
+    return;
+  }
+  ctx_.od.set(ctx_.h.error_register, num(0));
   set_state(PdsState::switch_on_disabled, 15);
   ctx_.emit(FaultResetDone{});
   ctx_.emit(Emcy{0x0000, 0x00, {}});
@@ -381,11 +389,12 @@ void DriveCore::check_conditions() {
     }
   }
   // warnings follow their condition
-  const std::int64_t mfr = ctx_.od.number(ctx_.h.mfr_status);
+  const std::int64_t mfr = this->mfr();
   const FaultInfo& w = fault_info(FaultCause::sensor_warning);
   const std::int64_t wbit = std::int64_t{1} << w.bit;
   const std::int64_t next = injected(FaultCause::sensor_warning) ? (mfr | wbit) : (mfr & ~wbit);
-  if (next != mfr) ctx_.od.set(ctx_.h.mfr_status, num(next));
+  if (next != mfr) set_mfr(next);
+  if (fh_) fh_check_temperature_warning();
 }
 
 // ---- block / following error (§10.6)

@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "drive/drive_core.hpp"
+#include "drive/faulhaber/fh_faults.hpp"
 
 namespace mcemu::core {
 namespace {
@@ -50,7 +51,7 @@ bool DriveCore::resting() const {
   if (g.kind() != Generator::Kind::hold || g.out().p != pos || g.out().v != 0 || g.out().a != 0) return false;
   if (dc_link_v_ != supply_set_.value_or(params_.supply_nominal_v)) return false;  // regeneration draining
   // step 3 would raise nothing new
-  const std::int64_t mfr = ctx_.od.number(ctx_.h.mfr_status);
+  const std::int64_t mfr = this->mfr();
   const double u = supply_voltage();
   if (u < params_.supply_uv_v && !(uv_count_ >= 2 && bit_set(mfr, FaultCause::under_voltage))) return false;
   if (u > params_.supply_ov_v && !(ov_count_ >= 2 && bit_set(mfr, FaultCause::over_voltage))) return false;
@@ -61,9 +62,15 @@ bool DriveCore::resting() const {
   }
   const std::int64_t wbit = std::int64_t{1} << fault_info(FaultCause::sensor_warning).bit;
   if (((mfr & wbit) != 0) != injected(FaultCause::sensor_warning)) return false;
+  // FAULHABER: the temperature warning follows the rounded temperature, which the thermal
+  // prediction below never passes over (a new rounded value ends the quiet stretch)
+  if (fh_ && fh_temperature_warning_ != (round_half_away(temperature_c()) >= faulhaber::k_temperature_warning_deg_c)) {
+    return false;
+  }
   if (state_ == PdsState::switched_on && !(hw_enable_ok() && sw_enable_ok())) return false;
   // step 8 and 10 would write nothing new
   if (compute_inputs() != ctx_.inputs || compose_statusword() != statusword_) return false;
+  if (fh_ && fh_device_status() != static_cast<std::uint32_t>(ctx_.num(fh_->device_status))) return false;
   return true;
 }
 
@@ -71,7 +78,7 @@ bool DriveCore::resting() const {
 // thermal_step() at zero current, so the prediction is exact.
 std::uint64_t DriveCore::thermal_quiet_steps() const {
   Thermal th = thermal_;
-  const std::int64_t mfr = ctx_.od.number(ctx_.h.mfr_status);
+  const std::int64_t mfr = this->mfr();
   const bool over_temperature_raised = bit_set(mfr, FaultCause::over_temperature);
   const bool i2t_raised = bit_set(mfr, FaultCause::i2t);
   const bool injected_ot = injected(FaultCause::over_temperature);

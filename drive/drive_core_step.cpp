@@ -56,8 +56,9 @@ void DriveCore::enter_mode(std::int8_t mode) {
   }
 }
 
-void DriveCore::mode_switch() {
-  const auto requested = static_cast<std::int8_t>(ctx_.num(ctx_.h.mode));
+void DriveCore::mode_switch() { mode_switch_to(static_cast<std::int8_t>(ctx_.num(ctx_.h.mode))); }
+
+void DriveCore::mode_switch_to(std::int8_t requested) {
   if (requested == mode_) return;
   const std::int8_t old = mode_;
   mode_ = requested;
@@ -88,6 +89,7 @@ void DriveCore::generate() {
         default: break;
       }
     }
+    if (fh_ && !service_move_) fh_limit_switch_guard();
   }
   ctx_.gen.tick();
 }
@@ -97,7 +99,13 @@ void DriveCore::run_plant() {
   in.demand0 = demand_prev_;
   in.demand1 = ctx_.gen.out();
   in.torque_on = torque_on_;
-  in.torque_limit = torque_on_ ? torque_limit() : 0;
+  if (fh_) {
+    const auto [positive, negative] = torque_on_ ? fh_torque_limits() : std::pair<double, double>{0, 0};
+    in.torque_limit = positive;
+    in.torque_limit_negative = negative;
+  } else {
+    in.torque_limit = torque_on_ ? torque_limit() : 0;
+  }
   plant_out_ = plant_.step(in);
   const double pos = plant_.position_inc();
   ctx_.actual_raw_inc = round_half_away(pos);
@@ -125,18 +133,18 @@ int DriveCore::motion_phase() const {
 }
 
 double DriveCore::torque_limit() const {
-  std::int64_t l = std::min<std::int64_t>(ctx_.num(ctx_.h.max_current), 1000);
+  std::int64_t l = std::min<std::int64_t>(ctx_.num(*ctx_.h.max_current), 1000);
   const bool mc349 = preset_.base == model::Base::mc349;
   const bool mcn23 = preset_.base == model::Base::mcn23;
   if (mc349 || mcn23) {
     const bool idle = !ctx_.gen.active();
     const int phase = motion_phase();
     if (idle) {
-      l = std::min(l, ctx_.num(ctx_.h.torque_stall));
+      l = std::min(l, ctx_.num(*ctx_.h.torque_stall));
     } else if (mc349 && phase == 1) {
-      l = std::min(l, ctx_.num(ctx_.h.torque_acc));
+      l = std::min(l, ctx_.num(*ctx_.h.torque_acc));
     } else if (mc349 && phase == 2) {
-      l = std::min(l, ctx_.num(ctx_.h.torque_dec));
+      l = std::min(l, ctx_.num(*ctx_.h.torque_dec));
     }
   }
   return params_.torque_peak * static_cast<double>(std::max<std::int64_t>(l, 0)) / 1000.0;
@@ -149,7 +157,11 @@ void DriveCore::monitors() {
     const double slow = ctx_.scaling.speed_limit_to_inc_s(static_cast<double>(ctx_.num(h.block_speed)));
     block_count_ = (saturated && std::fabs(ctx_.actual_velocity_inc_s) < slow) ? block_count_ + 1 : 0;
     const std::int64_t mask = ctx_.num(h.block_mask);
-    if (block_count_ > ctx_.num(h.block_count_max)) {
+    // FAULHABER homing on a block (−1…−4) waits 2324h.02 ms (faulhaber.md §7.2)
+    const bool fh_block_homing =
+        fh_ && state_ == PdsState::operation_enabled && mode_ == 6 && hm_.block_method_running();
+    const std::int64_t count_max = fh_block_homing ? ctx_.num(fh_->limit_check_delay) : ctx_.num(h.block_count_max);
+    if (block_count_ > count_max) {
       block_count_ = 0;
       const int phase = motion_phase();
       const bool masked = (phase == 1 && (mask & 1)) || (phase == 2 && (mask & 2)) || (phase == 0 && (mask & 4));

@@ -66,7 +66,7 @@ PlantOutput Plant::step(const PlantInput& in) {
       const double w_cmd = v_ff + kp * e_p;
       const double e_v = w_cmd - w_;
       const double tau_raw = params_.accel_feedforward * inertia_ctrl_ * ad1 + kv * e_v + integ_;
-      double tau_lim = in.torque_limit;
+      double tau_lim = (in.torque_limit_negative && tau_raw < 0) ? *in.torque_limit_negative : in.torque_limit;
       if (tau_raw * w_ > 0 && params_.no_load_speed > 0) {
         tau_lim = std::min(tau_lim, params_.torque_peak * std::max(0.0, 1 - std::fabs(w_) / params_.no_load_speed));
       }

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 
 #include "drive/core_types.hpp"
 #include "drive/plant_config.hpp"
@@ -21,6 +22,8 @@ struct PlantInput {
   Kinematics demand1;  // end of this step (inc, inc/s, inc/s²)
   bool torque_on = false;
   double torque_limit = 0;  // N·m or N, before the motoring reduction
+  // the limit for negative torque where it differs (FAULHABER 60E1h); none: torque_limit both ways
+  std::optional<double> torque_limit_negative;
 };
 
 struct PlantOutput {

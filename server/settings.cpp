@@ -26,7 +26,7 @@ const std::set<std::string> k_sections = {"objects",  "model_overrides", "plant"
 
 std::string names_of_presets() {
   std::string out;
-  for (auto n : model::preset_names()) {
+  for (auto n : model::all_preset_names()) {
     if (!out.empty()) out += ", ";
     out += n;
   }

@@ -7,6 +7,9 @@ namespace {
 
 constexpr std::array<std::string_view, 9> k_names = {"MC349", "MC349_AE", "MCN23", "MCFLAT",   "MCSHORT",
                                                      "MC632", "MC634",    "MC636", "PUSHTRACK"};
+constexpr std::array<std::string_view, 13> k_all_names = {"MC349",     "MC349_AE",  "MCN23", "MCFLAT",    "MCSHORT",
+                                                          "MC632",     "MC634",     "MC636", "PUSHTRACK", "FH_MC5004",
+                                                          "FH_MC5005", "FH_MC5010", "FH_MCS"};
 
 Identity identity(std::string device, std::string sw, std::uint32_t product, std::string short_name,
                   std::string display) {
@@ -172,6 +175,8 @@ ModelPreset mc6xx(std::string_view name) {
 
 std::span<const std::string_view> preset_names() { return k_names; }
 
+std::span<const std::string_view> all_preset_names() { return k_all_names; }
+
 std::optional<ModelPreset> find_preset(std::string_view name) {
   if (name == "MC349") return mc349(false);
   if (name == "MC349_AE") return mc349(true);
@@ -179,7 +184,7 @@ std::optional<ModelPreset> find_preset(std::string_view name) {
   if (name == "MCFLAT") return rabbit(false);
   if (name == "MCSHORT") return rabbit(true);
   if (name == "MC632" || name == "MC634" || name == "MC636" || name == "PUSHTRACK") return mc6xx(name);
-  return std::nullopt;
+  return find_faulhaber_preset(name);
 }
 
 std::string_view to_string(Base b) {
@@ -188,8 +193,11 @@ std::string_view to_string(Base b) {
     case Base::mc6xx: return "MC6xx";
     case Base::mcflat: return "MCFLAT";
     case Base::mcn23: return "MCN23";
+    case Base::faulhaber: return "FAULHABER";
   }
   return "?";
 }
+
+std::string_view to_string(Family f) { return f == Family::faulhaber ? "faulhaber" : "movingcap"; }
 
 }  // namespace mcemu::model

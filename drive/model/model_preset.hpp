@@ -1,5 +1,8 @@
-// The nine --model presets of models.md: identity, dictionary base, factory values, plant and I/O.
-// Pure data; the server may copy a preset and apply "model_overrides" / "plant" from --config.
+// The --model presets: the nine MovingCap presets of models.md and the four FAULHABER
+// MotionController V3.0 presets of faulhaber.md §1 (drive/model/faulhaber_presets.cpp): identity,
+// dictionary base, factory values, plant and I/O. Pure data; the server may copy a preset and apply
+// "model_overrides" / "plant" from --config (and, for FAULHABER, faulhaber.serial → identity.serial,
+// faulhaber.node_id → factory_values[2400h.03], before the dictionary is built).
 #pragma once
 
 #include <cstdint>
@@ -13,7 +16,12 @@
 
 namespace mcemu::model {
 
-enum class Base : std::uint8_t { mc349, mc6xx, mcflat, mcn23 };
+// The personality a preset belongs to: which dictionary, protocols and drive differences it has
+// (faulhaber.md §1, §7). The composition root asks it which services and parts to build.
+enum class Family : std::uint8_t { movingcap, faulhaber };
+// The dictionary a preset is built from: one of the four Fullmo XDDs, or the hand-written
+// FAULHABER table (drive/od/faulhaber_table.cpp).
+enum class Base : std::uint8_t { mc349, mc6xx, mcflat, mcn23, faulhaber };
 enum class Controller : std::uint8_t { standard, rabbit };
 enum class Kind : std::uint8_t { rotary, linear };
 
@@ -24,9 +32,10 @@ struct Identity {
   std::uint32_t vendor_id = 0x053B;
   std::uint32_t product_code = 50;
   std::uint32_t revision = 1;
-  std::uint32_t serial = 0x44444444;  // 3404h.04 and 1018h.04
-  std::string short_name;             // web headings
-  std::string display_name;           // web title
+  std::uint32_t serial = 0x44444444;        // 3404h.04 and 1018h.04
+  std::string vendor_name = "Fullmo GmbH";  // EDS export
+  std::string short_name;                   // web headings
+  std::string display_name;                 // web title
 };
 
 // models.md §4. Rotary: torque N·m, inertia kg·m², B N·m·s/rad, speeds rpm.
@@ -69,6 +78,7 @@ struct ObjectKey {
 
 struct ModelPreset {
   std::string name;  // the --model value
+  Family family = Family::movingcap;
   Base base = Base::mc349;
   std::string xdd_file;
   Controller controller = Controller::standard;
@@ -83,14 +93,29 @@ struct ModelPreset {
   std::vector<int> combined_pins;  // IOx pins: IN x also sees OUT x
   // per-preset factory values that differ from the all-model table (models.md §3.2)
   std::map<ObjectKey, std::int64_t> factory_values;
+  // Values the drive core uses for entries it reads that this family's dictionary does not have
+  // (a FAULHABER drive has no 3401h, 6059h, 60F2h …); an absent key reads as 0. Never consulted
+  // for an entry the dictionary has.
+  std::map<ObjectKey, std::int64_t> core_constants;
 
   bool is_rabbit() const { return controller == Controller::rabbit; }
+  bool is_faulhaber() const { return family == Family::faulhaber; }
+  // The MovingCap I/O functions (iofunc/, 3510h–36xxh) exist only on MovingCap drives; a
+  // FAULHABER drive is stepped and powered through DriveCore directly.
+  bool has_io_functions() const { return family == Family::movingcap; }
 };
 
-// Built-in presets, in the order of the README table.
+// Built-in MovingCap presets, in the order of the README table.
 std::span<const std::string_view> preset_names();
-// nullopt for an unknown name (names are case-sensitive).
+// The FAULHABER presets FH_MC5004, FH_MC5005, FH_MC5010, FH_MCS.
+std::span<const std::string_view> faulhaber_preset_names();
+// Both lists, MovingCap first (what --model accepts).
+std::span<const std::string_view> all_preset_names();
+// nullopt for an unknown name (names are case-sensitive); finds both families.
 std::optional<ModelPreset> find_preset(std::string_view name);
+// One FAULHABER preset, nullopt for another name (drive/model/faulhaber_presets.cpp).
+std::optional<ModelPreset> find_faulhaber_preset(std::string_view name);
 std::string_view to_string(Base b);
+std::string_view to_string(Family f);  // "movingcap", "faulhaber"
 
 }  // namespace mcemu::model

@@ -6,12 +6,26 @@ namespace {
 constexpr std::uint16_t k_start = 0x0010;
 constexpr std::uint16_t k_halt = 0x0100;
 constexpr int k_pulse_steps = 10;
+constexpr int k_negative_limit = -1;
+constexpr int k_positive_limit = -2;
 
 }  // namespace
 
 VelocityCommand Homing::command(double target) const {
   const double a = ctx_.accel_of(ctx_.h.homing_acc);
   return VelocityCommand{target, a, a, a};
+}
+
+bool Homing::switch_active() const {
+  if (input_ == k_negative_limit) return ctx_.limit_negative;
+  if (input_ == k_positive_limit) return ctx_.limit_positive;
+  return ctx_.input_level(input_);
+}
+
+void Homing::start_block(int dir) {
+  phase_ = Phase::block;
+  const double v = ctx_.scaling.velocity_to_inc_s(static_cast<double>(ctx_.num(ctx_.h.homing_speed_switch)));
+  ctx_.gen.start_velocity(command(dir * v));
 }
 
 void Homing::enter() {
@@ -54,6 +68,7 @@ void Homing::start() {
   leg_count_ = 0;
   leg_ = 0;
   const bool rabbit = ctx_.rabbit();
+  const bool fh = ctx_.faulhaber();
   const std::int64_t select = ctx_.h.switch_select ? ctx_.num(*ctx_.h.switch_select) : 0;
   const int home_switch = static_cast<int>(select & 0xF);
   const int left_switch = static_cast<int>((select >> 4) & 0xF);
@@ -76,20 +91,32 @@ void Homing::start() {
       return;
     case -18:
     case -19:
-      phase_ = Phase::block;
-      ctx_.gen.start_velocity(command((method_ == -18 ? 1 : -1) * ctx_.scaling.velocity_to_inc_s(static_cast<double>(
-                                                                      ctx_.num(ctx_.h.homing_speed_switch)))));
-      return;
-    case 17:
-      input_ = left_switch;
-      legs_ = {Leg{-1, true, true}, Leg{+1, false, false}};
-      break;
-    case 18:
-      if (!ctx_.params.homing.enable_method_18) {
+      if (fh) {
         fail();
         return;
       }
-      input_ = right_switch;
+      start_block(method_ == -18 ? 1 : -1);
+      return;
+    case -1:
+    case -2:
+    case -3:
+    case -4:
+      if (!fh) {
+        fail();
+        return;
+      }
+      start_block(method_ == -2 || method_ == -4 ? 1 : -1);
+      return;
+    case 17:
+      input_ = fh ? k_negative_limit : left_switch;
+      legs_ = {Leg{-1, true, true}, Leg{+1, false, false}};
+      break;
+    case 18:
+      if (!fh && !ctx_.params.homing.enable_method_18) {
+        fail();
+        return;
+      }
+      input_ = fh ? k_positive_limit : right_switch;
       legs_ = {Leg{+1, true, true}, Leg{-1, false, false}};
       break;
     case 19:
@@ -110,13 +137,15 @@ void Homing::start() {
       break;
     default: fail(); return;
   }
-  if (input_ == 0) {
+  const bool no_switch = (input_ == k_negative_limit && !ctx_.limit_negative_configured) ||
+                         (input_ == k_positive_limit && !ctx_.limit_positive_configured);
+  if (input_ == 0 || no_switch || (fh && method_ != 17 && method_ != 18)) {
     fail();
     return;
   }
   leg_count_ = 2;
   // the first leg ends when its condition holds; if it already holds, the search starts with leg 2
-  leg_ = ctx_.input_level(input_) == legs_[0].until_active ? 1 : 0;
+  leg_ = switch_active() == legs_[0].until_active ? 1 : 0;
   phase_ = Phase::leg;
   start_leg();
 }
@@ -171,7 +200,7 @@ void Homing::monitor() {
       return;
     case Phase::leg: {
       const Leg& l = legs_[static_cast<std::size_t>(leg_)];
-      if (ctx_.input_level(input_) == l.until_active) {
+      if (switch_active() == l.until_active) {
         if (leg_ + 1 < leg_count_) {
           ++leg_;
           phase_ = Phase::between;

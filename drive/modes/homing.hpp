@@ -1,6 +1,8 @@
 // Homing mode, 6061h = 6 (drive-core.md §9): methods 0, 35, 37 (no motion), −18/−19 (block
 // against a mechanical stop), 17 and 19–22 (limit / home switch from 60B8h), 18 when
 // homing.enable_method_18 is set; RABBIT models home by 35 only. Status bits 10/12/13 of §9.5.
+// FAULHABER drives (faulhaber.md §7.2): 17/18 on the limit switches of 2310h.01/.02, −1…−4 on a
+// mechanical stop (−1, −3 negative; −2, −4 positive; no index pulse), 0, 35, 37; no others.
 //
 // Contract: on_controlword() in the 6040h write (bit-4 start edge, halt), generate() at step 6,
 // monitor() at step 8 after 60FDh was recomputed, on_block() from the core's block detector.
@@ -53,6 +55,8 @@ class Homing {
   void succeed();
   void set_reference_here();
   void start_leg();
+  void start_block(int dir);
+  bool switch_active() const;
   VelocityCommand command(double target) const;
 
   CoreContext& ctx_;
@@ -61,7 +65,7 @@ class Homing {
   std::int8_t method_ = 0;
   int pulse_steps_ = 0;
   std::uint64_t start_ms_ = 0;
-  int input_ = 0;
+  int input_ = 0;  // IN n, or k_negative_limit / k_positive_limit (FAULHABER 2310h.01/.02)
   std::array<Leg, 2> legs_{};
   int leg_count_ = 0;
   int leg_ = 0;

@@ -9,6 +9,7 @@
 
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
+#include "drive/od/faulhaber_table.hpp"
 #include "drive/od/tables/xdd_tables.hpp"
 
 namespace mcemu::od {
@@ -407,11 +408,13 @@ std::span<const tables::XddEntry> xdd_table(model::Base base) {
     case Base::mc6xx: return tables::xdd_mc6xx();
     case Base::mcflat: return tables::xdd_mcflat();
     case Base::mcn23: return tables::xdd_mcn23();
+    case Base::faulhaber: return {};  // hand-written: drive/od/faulhaber_table.cpp
   }
   return {};
 }
 
 std::vector<EntryInfo> build_entries(const model::ModelPreset& preset) {
+  if (preset.is_faulhaber()) return build_faulhaber_entries(preset);
   std::vector<EntryInfo> out;
   for (const auto& x : xdd_table(preset.base)) out.push_back(from_xdd(x));
   add_extras(out, preset);
