@@ -35,7 +35,7 @@ class Port::Session final : public line::StreamSession, private Receiver::Sink {
   // line::StreamSession
   void receive(std::string_view bytes) override {
     Port* port = registry_->port;
-    if (!port || stopped()) return;
+    if (!port || stopped() || peer_closed_) return;  // nothing is read after FIN
     in_receive_ = true;
     receiver_.feed(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), port->now(), *this);
     in_receive_ = false;
