@@ -2,14 +2,31 @@
 
 namespace mcemu::faulhaber {
 
-// Text is built by appending characters: operator+ chains and short-string assignments followed
-// by appends make GCC 12 report a false -Wrestrict (see tests/fuzz/refgo_session.cpp).
+// Text is built by appending to one string: no temporaries per frame (the trace runs on every
+// request), and no operator+ chains, for which GCC 12 reports a false -Wrestrict.
 void append_hex(std::string& s, std::uint32_t v, int digits) {
   static constexpr char k_digits[] = "0123456789ABCDEF";
   for (int i = digits - 1; i >= 0; --i) s.push_back(k_digits[(v >> (4 * i)) & 0xF]);
 }
 
+void append_hex(std::string& s, std::span<const std::uint8_t> bytes) {
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    if (i > 0) s.push_back(' ');
+    append_hex(s, bytes[i], 2);
+  }
+}
+
 namespace {
+
+void append_count(std::string& s, std::size_t n) {
+  char digits[24];
+  int k = 0;
+  do {
+    digits[k++] = static_cast<char>('0' + n % 10);
+    n /= 10;
+  } while (n > 0);
+  while (k > 0) s.push_back(digits[--k]);
+}
 
 // "6041.00"
 void address(std::string& s, std::span<const std::uint8_t> d) {
@@ -36,33 +53,37 @@ void value(std::string& s, std::span<const std::uint8_t> v) {
     return;
   }
   s.push_back('[');
-  s.append(hex(v));
+  append_hex(s, v);
   s.push_back(']');
 }
 
-std::string other(const FrameView& f) {
-  std::string s = "command 0x";
+void other(std::string& s, const FrameView& f) {
+  s.append("command 0x");
   append_hex(s, f.command, 2);
-  s.append(" (").append(std::to_string(f.data.size())).append(" data bytes)");
-  return s;
+  s.append(" (");
+  append_count(s, f.data.size());
+  s.append(" data bytes)");
 }
 
-std::string to_drive(const FrameView& f) {
+void to_drive(std::string& s, const FrameView& f) {
   const auto d = f.data;
-  std::string s;
   switch (f.command) {
     case command::reset_node:
-      s = "reset node";
-      if (!d.empty()) s.append(" (").append(std::to_string(d.size())).append(" data bytes ignored)");
-      return s;
+      s.append("reset node");
+      if (!d.empty()) {
+        s.append(" (");
+        append_count(s, d.size());
+        s.append(" data bytes ignored)");
+      }
+      return;
     case command::sdo_read:
       if (d.size() != 3) break;
-      s = "SDO read ";
+      s.append("SDO read ");
       address(s, d);
-      return s;
+      return;
     case command::sdo_write:
       if (d.size() < 3) break;
-      s = "SDO write ";
+      s.append("SDO write ");
       address(s, d);
       if (d.size() == 3) {
         s.append(" (no value)");
@@ -70,98 +91,108 @@ std::string to_drive(const FrameView& f) {
         s.append(" = ");
         value(s, d.subspan(3));
       }
-      return s;
+      return;
     case command::sdo_abort:
       if (d.size() != 7) break;
-      s = "abort request ";
+      s.append("abort request ");
       address(s, d);
       s.append(" 0x");
       append_hex(s, le32(d, 3), 8);
-      return s;
+      return;
     case command::controlword:
       if (d.size() != 2) break;
-      s = "controlword 0x";
+      s.append("controlword 0x");
       append_hex(s, le16(d, 0), 4);
-      return s;
+      return;
     default: break;
   }
-  return other(f);
+  other(s, f);
 }
 
-std::string to_host(const FrameView& f) {
+void to_host(std::string& s, const FrameView& f) {
   const auto d = f.data;
-  std::string s;
   switch (f.command) {
     case command::boot:
-      s = "boot \"";
+      s.append("boot \"");
       for (const auto b : d) s.push_back(static_cast<char>(b));
       s.push_back('"');
-      return s;
+      return;
     case command::sdo_read:
       if (d.size() <= 3) break;
-      s = "SDO read ";
+      s.append("SDO read ");
       address(s, d);
       s.append(" → ");
       value(s, d.subspan(3));
-      return s;
+      return;
     case command::sdo_write:
       if (d.size() != 3) break;
-      s = "SDO write ";
+      s.append("SDO write ");
       address(s, d);
       s.append(" ok");
-      return s;
+      return;
     case command::sdo_error:
       if (d.size() == 7) {
-        s = "error ";
+        s.append("error ");
         address(s, d);
         s.append(" 0x");
         append_hex(s, le32(d, 3), 8);
-        return s;
+        return;
       }
       if (d.size() != 3) break;
-      s = "abort ";
+      s.append("abort ");
       address(s, d);
       s.append(" acknowledged");
-      return s;
+      return;
     case command::controlword:
       if (d.size() != 1) break;
-      if (d[0] == 0) return "controlword ok";
-      s = "controlword refused (error ";
-      s.append(std::to_string(d[0])).push_back(')');
-      return s;
+      if (d[0] == 0) {
+        s.append("controlword ok");
+        return;
+      }
+      s.append("controlword refused (error ");
+      append_count(s, d[0]);
+      s.push_back(')');
+      return;
     case command::statusword:
       if (d.size() != 2) break;
-      s = "statusword 0x";
+      s.append("statusword 0x");
       append_hex(s, le16(d, 0), 4);
-      return s;
+      return;
     case command::emcy:
       if (d.size() != 8) break;
-      s = "EMCY ";
+      s.append("EMCY ");
       append_hex(s, le16(d, 0), 4);
       s.append("h reg ");
       append_hex(s, d[2], 2);
       s.append(" word ");
       append_hex(s, le16(d, 3), 4);
-      return s;
+      return;
     default: break;
   }
-  return other(f);
+  other(s, f);
 }
 
 }  // namespace
 
+void append_description(std::string& out, const FrameView& f, Direction dir) {
+  if (dir == Direction::to_drive) {
+    to_drive(out, f);
+  } else {
+    to_host(out, f);
+  }
+}
+
 std::string hex(std::span<const std::uint8_t> bytes) {
   std::string s;
   s.reserve(bytes.size() * 3);
-  for (const auto b : bytes) {
-    if (!s.empty()) s.push_back(' ');
-    append_hex(s, b, 2);
-  }
+  append_hex(s, bytes);
   return s;
 }
 
 std::string describe(const FrameView& f, Direction dir) {
-  return dir == Direction::to_drive ? to_drive(f) : to_host(f);
+  std::string s;
+  append_description(s, f, dir);
+  return s;
 }
 
 }  // namespace mcemu::faulhaber

@@ -16,8 +16,12 @@ enum class Direction : std::uint8_t { to_drive, to_host };
 
 // "53 07 01 01 41 60 00 73 45" (upper case, one space between bytes).
 std::string hex(std::span<const std::uint8_t> bytes);
-// Appends `digits` upper-case hex digits of v.
-void append_hex(std::string& s, std::uint32_t v, int digits);
 std::string describe(const FrameView& f, Direction dir);
+
+// The same, appended to `out` (a reused buffer: no allocation once it has grown).
+void append_hex(std::string& out, std::span<const std::uint8_t> bytes);
+void append_description(std::string& out, const FrameView& f, Direction dir);
+// Appends `digits` upper-case hex digits of v.
+void append_hex(std::string& out, std::uint32_t v, int digits);
 
 }  // namespace mcemu::faulhaber

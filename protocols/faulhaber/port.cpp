@@ -49,7 +49,9 @@ class Port::Session final : public line::StreamSession, private Receiver::Sink {
     peer_closed_ = true;
   }
   bool finished() const override { return overflowed_ || !registry_->port || (peer_closed_ && held_.empty()); }
-  void closing(std::string_view reason) override { event("closing: " + std::string(reason)); }
+  void closing(std::string_view reason) override {
+    trace_event(TraceEvent::Kind::event, {}, [reason](std::string& s) { s.append("closing: ").append(reason); });
+  }
 
   // From the port.
   void queue_async(const Frame& f, Millis now) {
@@ -106,23 +108,22 @@ class Port::Session final : public line::StreamSession, private Receiver::Sink {
   bool check_crc() override { return registry_->port && registry_->port->crc_check(); }
 
   void on_dropped(const Dropped& d) override {
-    if (!trace_) return;
-    std::string why(to_string(d.reason));
-    if (d.count > d.bytes.size()) why += " (" + std::to_string(d.count) + " bytes)";
-    trace_({TraceEvent::Kind::dropped, hex(d.bytes), std::move(why)});
+    trace_event(TraceEvent::Kind::dropped, d.bytes, [&d](std::string& s) {
+      s.append(to_string(d.reason));
+      if (d.count > d.bytes.size()) s.append(" (").append(std::to_string(d.count)).append(" bytes)");
+    });
   }
 
   void on_frame(const FrameView& f, std::span<const std::uint8_t> raw) override {
     Port* port = registry_->port;
     if (!port || stopped()) return;
-    if (trace_) trace_({TraceEvent::Kind::rx, hex(raw), describe(f, Direction::to_drive)});
+    trace_event(TraceEvent::Kind::rx, raw, [&f](std::string& s) { append_description(s, f, Direction::to_drive); });
     const std::uint8_t node = port->node_id();
     if (f.node != node) {
-      if (trace_) {
-        trace_({TraceEvent::Kind::ignored,
-                {},
-                "for node " + std::to_string(f.node) + ", this drive is node " + std::to_string(node)});
-      }
+      trace_event(TraceEvent::Kind::ignored, {}, [&](std::string& s) {
+        s.append("for node ").append(std::to_string(f.node));
+        s.append(", this drive is node ").append(std::to_string(node));
+      });
       return;
     }
     const Millis now = port->now();
@@ -174,21 +175,24 @@ class Port::Session final : public line::StreamSession, private Receiver::Sink {
   void emit(const Frame& f, od::AbortCode code) {
     append_encoded(output_, f.view());
     if (!in_receive_) wake_needed_ = true;  // receive()'s output is collected by the adapter anyway
-    if (!trace_) return;
-    std::string summary = describe(f.view(), Direction::to_host);
-    if (f.command == command::controlword && code != od::AbortCode::none) {
-      summary.append(" 0x");
-      append_hex(summary, od::to_u32(code), 8);
-    }
-    const std::string_view wire(output_.data() + output_.size() - (f.data.size() + 6), f.data.size() + 6);
-    trace_({TraceEvent::Kind::tx, hex(std::span(reinterpret_cast<const std::uint8_t*>(wire.data()), wire.size())),
-            std::move(summary)});
+    const std::size_t n = f.data.size() + 6;
+    const std::span<const std::uint8_t> wire(reinterpret_cast<const std::uint8_t*>(output_.data()) + output_.size() - n,
+                                             n);
+    trace_event(TraceEvent::Kind::tx, wire, [&](std::string& s) {
+      append_description(s, f.view(), Direction::to_host);
+      if (f.command == command::controlword && code != od::AbortCode::none) {
+        s.append(" 0x");
+        append_hex(s, od::to_u32(code), 8);
+      }
+    });
   }
 
   void check_limit() {
     const Port* port = registry_->port;
     if (overflowed_ || !port || output_.size() + held_bytes_ <= port->config_.queue_limit_bytes) return;
-    event("closing: output queue above " + std::to_string(port->config_.queue_limit_bytes) + " bytes");
+    trace_event(TraceEvent::Kind::event, {}, [port](std::string& s) {
+      s.append("closing: output queue above ").append(std::to_string(port->config_.queue_limit_bytes)).append(" bytes");
+    });
     overflowed_ = true;
     // Everything goes to the adapter at once: its close-on-overflow rule closes the connection.
     for (const auto& h : held_) {
@@ -201,14 +205,23 @@ class Port::Session final : public line::StreamSession, private Receiver::Sink {
     wake_needed_ = true;
   }
 
-  void event(std::string text) {
-    if (trace_) trace_({TraceEvent::Kind::event, {}, std::move(text)});
+  // One trace line, its texts built in the session's reused buffers (no allocation per frame).
+  template <class Text>
+  void trace_event(TraceEvent::Kind kind, std::span<const std::uint8_t> bytes, const Text& text) {
+    if (!trace_) return;
+    trace_hex_.clear();
+    append_hex(trace_hex_, bytes);
+    trace_text_.clear();
+    text(trace_text_);
+    trace_({kind, trace_hex_, trace_text_});
   }
 
   std::shared_ptr<Registry> registry_;
   std::uint64_t id_;
   Receiver receiver_;
   Trace trace_;
+  std::string trace_hex_;  // reused buffers of the trace texts
+  std::string trace_text_;
   std::string output_;
   std::deque<Held> held_;
   std::size_t held_bytes_ = 0;

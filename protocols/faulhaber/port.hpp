@@ -36,6 +36,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "drive/od/dictionary.hpp"
 #include "protocols/faulhaber/commands.hpp"
@@ -51,7 +52,8 @@ struct PortConfig {
   Millis inter_byte_timeout = Receiver::k_default_timeout;
 };
 
-// One trace line of a connection (channel `faulhaber`).
+// One trace line of a connection (channel `faulhaber`). The texts are views into the session's
+// reused buffers: valid during the trace call only (copy what you keep).
 struct TraceEvent {
   enum class Kind : std::uint8_t {
     rx,       // a frame received: hex + summary ("SDO read 6041.00")
@@ -61,8 +63,8 @@ struct TraceEvent {
     event,    // "closing: queue overflow"
   };
   Kind kind = Kind::event;
-  std::string hex;
-  std::string summary;
+  std::string_view hex;
+  std::string_view summary;
 };
 
 // Entries the port reads (faulhaber.md §6).

@@ -80,7 +80,10 @@ struct Owner {
 
 // One connection as the line adapter drives it: output collected after receive() and on wake-up.
 struct Client {
-  explicit Client(Port& port) : session(port.make_session([this](const TraceEvent& e) { trace.push_back(e); })) {
+  explicit Client(Port& port)
+      : session(port.make_session([this](const TraceEvent& e) {
+          trace.push_back({e.kind, std::string(e.hex), std::string(e.summary)});
+        })) {
     session->set_wake([this] {
       ++wakes;
       out += session->take_output();
@@ -104,7 +107,12 @@ struct Client {
     return v;
   }
 
-  std::vector<TraceEvent> trace;
+  struct Line {  // a TraceEvent's copy (its views die with the call)
+    TraceEvent::Kind kind;
+    std::string hex;
+    std::string summary;
+  };
+  std::vector<Line> trace;
   std::unique_ptr<line::StreamSession> session;
   std::string out;
   int wakes = 0;
@@ -268,6 +276,18 @@ TEST(Port, AsynchronousRowsGoToEveryConnection) {
   EXPECT_EQ(a.take(), want);
   EXPECT_EQ(b.take(), want);
   EXPECT_EQ(a.wakes, 9) << "output outside a receive() call wakes the adapter";
+}
+
+TEST(Port, NothingIsSentOnConnect) {
+  Owner o;
+  Client a(o.port);
+  EXPECT_EQ(a.take(), "");
+  o.port.send_boot();
+  Client b(o.port);
+  EXPECT_EQ(b.take(), "") << "a newly connected client does not get the boot message (§6)";
+  o.port.notify_statusword(0x0040);
+  EXPECT_EQ(b.take(), "53 06 01 05 40 00 17 45");
+  EXPECT_EQ(o.port.session_count(), 2u);
 }
 
 TEST(Port, SwitchesOfAsynchronousMessages) {
