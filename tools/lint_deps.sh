@@ -43,6 +43,8 @@ for d in protocols/*/; do
 done
 # SLCAN knows CAN frames, not CANopen (design.md)
 check_layer protocols/slcan 'protocols/canopen/'
+# FAULHABER binary protocol: the dictionary and the line-session interface only, no adapter
+check_layer protocols/faulhaber 'server/|web/|persistence/|scripting/|protocols/[a-z_]+/net/|protocols/(canopen|slcan|refgo|udp_debug)/'
 
 if [ $status -ne 0 ]; then
   echo "dependency lint: violations above (see design.md: pure folders and dependency direction)" >&2
