@@ -6,7 +6,7 @@ set -uo pipefail
 cd "${LINT_ROOT:-$(dirname "${BASH_SOURCE[0]}")/..}" || exit 2
 
 pure_files() {
-  { find drive iofunc web/api web/assets trace scripting/core sim -type f \( -name '*.cpp' -o -name '*.hpp' \) 2>/dev/null
+  { find drive iofunc web/api web/assets trace scripting/core scripting/basic sim -type f \( -name '*.cpp' -o -name '*.hpp' \) 2>/dev/null
     find protocols -type f \( -name '*.cpp' -o -name '*.hpp' \) -not -path '*/net/*' 2>/dev/null; } | sort
 }
 
@@ -30,6 +30,8 @@ check_layer iofunc 'protocols/|web/|server/|persistence/|scripting/'
 check_layer web/api 'web/net/|server/|protocols/[a-z]+/net/'
 # scripting/core is the pure part of the engine: no engine process, server or web code
 check_layer scripting/core 'scripting/[a-z_]+\.hpp|server/|web/|protocols/[a-z]+/net/'
+# scripting/basic (MC BASIC) is pure as a whole: the dictionary and itself, no engine, server or web code
+check_layer scripting/basic 'scripting/[a-z_]+\.hpp|scripting/core/|server/|web/|protocols/|iofunc/|persistence/|sim/'
 check_layer sim 'web/net/|server/|persistence/|scripting/|protocols/[a-z]+/net/'
 for d in protocols/*/; do
   [ -d "$d" ] || continue
