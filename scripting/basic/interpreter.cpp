@@ -89,6 +89,7 @@ void Interpreter::start(const Program& program, int slot) {
   state_ = RunState::running;
   forget_history();
   emit(Event{.kind = EventKind::started});
+  if (program.code.empty()) finish(RunState::finished, EventKind::finished, "end of program");  // not from load()
 }
 
 void Interpreter::stop(std::string_view why) {

@@ -27,7 +27,7 @@ std::string_view to_string(SlotState s);  // "empty", "loaded", "running", "stop
 struct SlotStatus {
   SlotState state = SlotState::empty;
   std::uint32_t line = 0;                    // error: the line (0 = the program as a whole)
-  std::string message{};  // error
+  std::string message{};                     // error
   od::AbortCode code = od::AbortCode::none;  // run-time error of an OD access
   bool load_error = false;                   // error: found by the loader (the text must change)
   std::size_t bytes = 0;
@@ -38,6 +38,8 @@ class Programs {
   static constexpr int k_slots = 8;
 
   Programs(od::ObjectDictionary& od, VariableStorage& storage, Settings settings = {}, EventSink sink = {});
+  Programs(const Programs&) = delete;  // the interpreter's sink points here
+  Programs& operator=(const Programs&) = delete;
 
   enum class Upload : std::uint8_t { ok, bad_slot, too_large };
   // Stores and loads the text (a running slot is stopped first). ok: the slot is `loaded`, or

@@ -376,5 +376,32 @@ TEST(BasicRun, LabelsCommentsElseAndEndifCostNothing) {
   EXPECT_EQ(rig.interp->line(), 13U);
 }
 
+TEST(BasicRun, AnEmptyProgramEndsAtOnceAndZeroStatementsPerMsMeansOne) {
+  Rig rig;
+  const Program none;  // not from load(): no instructions at all
+  rig.interp->start(none);
+  EXPECT_EQ(rig.interp->state(), RunState::finished);
+  rig.start("");
+  rig.step();
+  EXPECT_EQ(rig.interp->state(), RunState::finished);
+
+  Rig zero(0);
+  zero.start(":L\nGOTO L\n");
+  zero.step(10);
+  EXPECT_EQ(zero.interp->statements(), 10U);
+}
+
+TEST(BasicRun, ErrorEventsDescribeSlotLineAndReason) {
+  Rig rig;
+  rig.start("a = 1\nb = a / 0\n");
+  rig.step();
+  EXPECT_EQ(describe(rig.events.back()), "error slot 1 line 2: division by zero");
+  rig.start("SETOBJ $6041.00 = 3\n");
+  rig.step();
+  const auto w = rig.of_kind(EventKind::setobj);
+  ASSERT_EQ(w.size(), 1U);
+  EXPECT_EQ(describe(w[0]), "setobj line 1 6041h.00 = 3 refused 06010002");
+}
+
 }  // namespace
 }  // namespace mcemu::basic
