@@ -141,7 +141,8 @@ std::uint64_t Interpreter::quiet_steps() const {
 
 void Interpreter::skip(std::uint64_t n) {
   now_ms_ += n;
-  if (!running() || cycle_len_ == 0 || n == 0) return;
+  // a skip the contract does not allow (something changed since the last step) moves time only
+  if (!running() || cycle_len_ == 0 || n == 0 || od_.generation() != last_end_generation_) return;
   statements_ += n * std::max<std::uint32_t>(settings_.statements_per_ms, 1);
   const std::size_t k = static_cast<std::size_t>(n % cycle_len_);
   std::rotate(cycle_.begin(), cycle_.begin() + static_cast<std::ptrdiff_t>(k), cycle_.end());
