@@ -7,7 +7,7 @@ cd "${LINT_ROOT:-$(dirname "${BASH_SOURCE[0]}")/..}" || exit 2
 
 # The pure folders (design.md): the drive, the bundle and everything it is built from, the JSON API.
 pure_files() {
-  { find base drive iofunc device web/api web/assets trace scripting/core sim -type f \( -name '*.cpp' -o -name '*.hpp' \) 2>/dev/null
+  { find base drive iofunc device web/api web/assets trace scripting/core scripting/basic sim -type f \( -name '*.cpp' -o -name '*.hpp' \) 2>/dev/null
     find protocols -type f \( -name '*.cpp' -o -name '*.hpp' \) -not -path '*/net/*' 2>/dev/null
     ls persistence/state_document.* persistence/service.* 2>/dev/null; } | sort
 }
@@ -37,6 +37,8 @@ check_layer device 'web/|server/|scripting/|protocols/[a-z]+/net/|persistence/(a
 check_layer web/api 'web/net/|server/|protocols/[a-z]+/net/'
 # scripting/core is the pure part of the engine: no engine process, server or web code
 check_layer scripting/core 'scripting/[a-z_]+\.hpp|server/|web/|protocols/[a-z]+/net/|device/'
+# scripting/basic (MC BASIC) is pure as a whole: the dictionary and itself, no engine, server or web code
+check_layer scripting/basic 'scripting/[a-z_]+\.hpp|scripting/core/|server/|web/|protocols/|iofunc/|persistence/|sim/'
 for d in protocols/*/; do
   [ -d "$d" ] || continue
   if grep -rnE '#include[[:space:]]*"(server/|web/)' "$d" --include='*.cpp' --include='*.hpp'; then status=1; fi
