@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "persistence/state_document.hpp"
+#include "protocols/faulhaber/config.hpp"
 
 namespace mcemu::device {
 
@@ -54,12 +55,38 @@ void apply_overrides(model::ModelPreset& p, const json& o) {
   }
 }
 
+// The "faulhaber" section's dictionary keys (faulhaber.md §1, §4, §8): the device name 1008h, the
+// serial 1018h.04, the factory node-id 0x2400.03 and the CRC switch of 0x2400.04. The protocol's and
+// MC BASIC's own keys are validated here too, so a typo stops start-up on every model.
+void apply_faulhaber(model::ModelPreset& p, const json& section) {
+  if (!section.is_object()) throw ConfigError("config: \"faulhaber\" must be an object");
+  faulhaber::FaulhaberConfig fh;
+  try {
+    fh = faulhaber::faulhaber_config_from_json(section);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(std::string("config: ") + e.what());
+  }
+  if (!p.is_faulhaber()) throw ConfigError("config: \"faulhaber\" applies to the FH_… models only, not " + p.name);
+  if (const auto it = section.find("device_name"); it != section.end()) {
+    const auto name = string_of(*it, "config key \"faulhaber.device_name\"");
+    if (name.empty() || name.size() > 58)
+      throw ConfigError("config: \"faulhaber.device_name\" must be 1 … 58 characters");
+    p.identity.device_name = name;
+  }
+  if (const auto it = section.find("serial"); it != section.end()) {
+    p.identity.serial = u32_of(*it, "config key \"faulhaber.serial\"");
+  }
+  p.factory_values[{0x2400, 0x03}] = fh.node_id;
+  p.factory_values[{0x2400, 0x04}] = static_cast<std::int64_t>(faulhaber::factory_settings(fh));
+}
+
 }  // namespace
 
 model::ModelPreset make_preset(const std::string& model, const nlohmann::json& config) {
   auto p = model::find_preset(model);
   if (!p) throw ConfigError("unknown model '" + model + "'");
   if (config.contains("model_overrides")) apply_overrides(*p, config["model_overrides"]);
+  if (config.contains("faulhaber")) apply_faulhaber(*p, config["faulhaber"]);
   return *p;
 }
 

@@ -44,15 +44,18 @@ Device::Device(Setup setup, Environment env)
   try {
     slcan_config_ = slcan::slcan_config_from_json(config_.value("slcan", nlohmann::json::object()));
     canopen_config_ = canopen::canopen_config_from_json(config_.value("canopen", nlohmann::json::object()));
+    if (config_.contains("faulhaber")) fh_config_ = faulhaber::faulhaber_config_from_json(config_["faulhaber"]);
   } catch (const std::invalid_argument& e) {
     throw ConfigError(std::string("config: ") + e.what());
   }
   build_dictionary();
   build_core();
   if (personality_->canopen) build_canopen();
+  if (personality_->faulhaber) build_faulhaber();
   trace_ = std::make_unique<trace::Ring>(
       trace::Ring::Clocks{[this] { return core_->time_ms(); }, [this] { return env_.unix_ms ? env_.unix_ms() : 0; }});
   faults_ = std::make_unique<FaultInjections>(*od_, *core_);
+  has_1002_ = od_->find(0x1002, 0).has_value();
   wire_faults();
   build_steps();
   leds_.power_up(led::address_of(*od_));
@@ -76,10 +79,10 @@ void Device::build_dictionary() {
   }
   apply_config_objects(*od_, config_);
   factory_ = persistence::snapshot(*od_);
-  log(LogLevel::info, "model " + preset_.name + ": " + preset_.identity.device_name + " " +
-                          preset_.identity.software_version + ", XDD " + preset_.xdd_file + ", " +
-                          (preset_.is_rabbit() ? "RABBIT" : "standard") + " controller, 6502h = 0x" +
-                          hex2(preset_.supported_modes));
+  log(LogLevel::info,
+      "model " + preset_.name + ": " + preset_.identity.device_name + " " + preset_.identity.software_version +
+          (preset_.xdd_file.empty() ? std::string() : ", XDD " + preset_.xdd_file) + ", " +
+          (preset_.is_rabbit() ? "RABBIT" : "standard") + " controller, 6502h = 0x" + hex2(preset_.supported_modes));
   if (env_.load_state) loaded_ = env_.load_state(*od_, preset_.name);
   const std::string stored_ip = active_ip();
   apply_explicit_ip();
@@ -96,7 +99,7 @@ void Device::build_core() {
     throw ConfigError(std::string("invalid plant configuration in --config: ") + e.what());
   }
   // The I/O functions wrap the core: they step it and power it on (iofunc.md §3).
-  io_ = std::make_unique<iofunc::IoFunctions>(*od_, *core_);
+  if (personality_->io_functions) io_ = std::make_unique<iofunc::IoFunctions>(*od_, *core_);
 
   persistence::ServiceHooks hooks;
   hooks.now_utc = [this] { return env_.now_utc ? env_.now_utc() : std::string("1970-01-01T00:00:00Z"); };
@@ -108,7 +111,7 @@ void Device::build_core() {
     if (observers_.factory_reset) observers_.factory_reset();
   };
   hooks.after_restore = [this] {
-    io_->after_bulk_load();
+    if (io_) io_->after_bulk_load();
     if (canopen_) canopen_->node().reload();
     if (env_.wake) env_.wake();
   };
@@ -123,7 +126,15 @@ void Device::build_core() {
   core::PowerOnState s;
   if (env_.stored_plant_position) s.raw_position_inc = env_.stored_plant_position(preset_.name);
   if (const auto& file = persistence_->on_file()) s.home_offset_inc = file->home_offset_inc;
-  io_->power_on(s);
+  power_on(s);
+}
+
+void Device::power_on(const core::PowerOnState& state) {
+  if (io_) {
+    io_->power_on(state);  // the core's power_on() and iofunc's volatile state
+  } else {
+    core_->power_on(state);
+  }
 }
 
 void Device::build_canopen() {
@@ -143,8 +154,36 @@ void Device::build_canopen() {
   canopen_ = std::make_unique<CanopenBus>(*od_, slcan_config_, canopen_config_, std::move(hooks));
 }
 
+// The FAULHABER binary protocol (faulhaber.md §2–§6): one port for every connection of this drive.
+// Responses first, then the notifications the request caused (after_request hands the core's
+// events over); the reset node telegram is a device reset followed by the boot message.
+void Device::build_faulhaber() {
+  faulhaber::Port::Hooks hooks;
+  hooks.now = [this] { return faulhaber::Millis(static_cast<std::int64_t>(core_->time_ms())); };
+  hooks.after_request = [this] { handle_events(); };
+  hooks.reset_node = [this] { device_reset(); };
+  fh_port_ = std::make_unique<faulhaber::Port>(*od_, fh_config_.port, std::move(hooks));
+}
+
+void Device::device_reset() {
+  log(LogLevel::info, "faulhaber: reset node");
+  fh_quiet_ = true;
+  reset_node();
+  fh_quiet_ = false;
+  if (fh_port_) fh_port_->send_boot();
+  if (env_.wake) env_.wake();
+}
+
 // Fault injection reports on the trace (channel api) and, with udpEmulatorNotes, as a UDP note.
 void Device::wire_faults() {
+  faults_->set_kind_filter([p = personality_](std::string_view kind) {
+    const auto family = kind.substr(0, kind.find('.'));
+    if (family == "refgo") return p->refgo;
+    if (family == "slcan") return p->canopen;
+    if (family == "udp") return p->udp_debug;
+    if (family == "script") return p->code_scripts;
+    return true;  // drive.*, http.error
+  });
   faults_->set_journal([this](const std::string& trace_text, const std::string& note_text) {
     trace_->record(trace::Channel::api, trace::Dir::event, trace_text);
     if (settings_.udp_emulator_notes && env_.note) env_.note(note_text);
@@ -162,9 +201,10 @@ void Device::build_steps() {
     if (refgo_) parts_.push_back(std::make_unique<RefgoPart>(*refgo_, *core_));
     parts_.push_back(std::make_unique<sim::HookPart>([this] { handle_events(); }));
     if (canopen_) parts_.push_back(std::make_unique<CanopenPart>(*canopen_));
+    if (fh_port_) parts_.push_back(std::make_unique<FaulhaberPart>(*fh_port_, *core_));
   }
-  steps_ = std::make_unique<sim::DriveSteps>(*od_, *io_, *core_);
-  const std::size_t before_hand_off = parts_.size() - (canopen_ ? 2 : 1);
+  steps_ = std::make_unique<sim::DriveSteps>(*od_, io_.get(), *core_);
+  const std::size_t before_hand_off = parts_.size() - 1 - (canopen_ ? 1 : 0) - (fh_port_ ? 1 : 0);
   for (std::size_t i = 0; i < before_hand_off; ++i) steps_->add(*parts_[i]);
   for (auto& p : extras_) steps_->add(*p);
   for (std::size_t i = before_hand_off; i < parts_.size(); ++i) steps_->add(*parts_[i]);
@@ -185,14 +225,24 @@ std::optional<Refusal> Device::change_settings(const nlohmann::json& changes, co
 }
 
 void Device::handle_events() {
-  for (const auto& d : io_->drain_diagnostics()) {
-    log(d.level == core::DiagnosticLevel::warning ? LogLevel::warning : LogLevel::debug, "I/O function: " + d.text);
+  if (io_) {
+    for (const auto& d : io_->drain_diagnostics()) {
+      log(d.level == core::DiagnosticLevel::warning ? LogLevel::warning : LogLevel::debug, "I/O function: " + d.text);
+    }
   }
   leds_.update_status(*core_, *od_);
+  if (!has_1002_) faults_->observe_fault_bits(core_->fault_bits());
   for (const auto& e : core_->drain_events()) {
     trace_->record(trace::Channel::drive, trace::Dir::event, core::event_text(e));  // web.md §8.6
     if (const auto* emcy = std::get_if<core::Emcy>(&e)) {
       if (canopen_) canopen_->node().emit_emcy(emcy->code, emcy->reg, emcy->data);
+      // FAULHABER layout (faulhaber.md §5 command 0x07): the 2320h error word in the first two bytes
+      if (fh_port_ && !fh_quiet_) {
+        fh_port_->notify_emcy(emcy->code, emcy->reg, static_cast<std::uint16_t>(emcy->data[0] | (emcy->data[1] << 8)));
+      }
+    } else if (const auto* sw = std::get_if<core::StatuswordChanged>(&e)) {
+      if (fh_port_ && !fh_quiet_)
+        fh_port_->notify_statusword(sw->new_value);  // one per change of 6041h (faulhaber.md §6)
     } else if (const auto* f = std::get_if<core::FaultRaised>(&e)) {
       if (env_.note) env_.note(udp_debug::fault_text(f->code));
     } else if (std::holds_alternative<core::FaultResetDone>(e)) {
@@ -209,6 +259,14 @@ void Device::power_up_network() {
     canopen_->power_on();
     for (int i = 0; i < 1000 && canopen_->node().state() == canopen::NmtState::initialising; ++i) step();
   }
+  if (fh_port_) {
+    // The statusword of the power on is not a change a host is told about: the boot message is
+    // the first thing it hears (faulhaber.md §6).
+    fh_quiet_ = true;
+    handle_events();
+    fh_quiet_ = false;
+    fh_port_->send_boot();
+  }
   if (env_.wake) env_.wake();
 }
 
@@ -222,7 +280,7 @@ void Device::power_cycle() {
   const auto keep = power_on_state_for_restart();
   rebuild_ram_image();
   if (refgo_) refgo_->reset();
-  io_->power_on(keep);
+  power_on(keep);
   leds_.power_up(led::address_of(*od_));
 }
 
@@ -231,7 +289,7 @@ void Device::reset_node() {
   log(LogLevel::info, "canopen: NMT reset node");
   if (observers_.powering_down) observers_.powering_down();
   rebuild_ram_image();
-  io_->power_on(keep);                    // the core's power_on() and iofunc's volatile state
+  power_on(keep);
   leds_.power_up(led::address_of(*od_));  // drive time restarts at 0
   handle_events();
   if (observers_.powered_up) observers_.powered_up();  // no UDP start-up block: at once (scripting.md §3.2)

@@ -33,6 +33,8 @@
 #include "iofunc/io_functions.hpp"
 #include "persistence/service.hpp"
 #include "protocols/canopen/config.hpp"
+#include "protocols/faulhaber/config.hpp"
+#include "protocols/faulhaber/port.hpp"
 #include "protocols/refgo/interpreter.hpp"
 #include "protocols/slcan/config.hpp"
 #include "sim/drive_steps.hpp"
@@ -99,7 +101,8 @@ class Device {
   const od::ObjectDictionary& od() const { return *od_; }
   core::DriveCore& core() { return *core_; }
   const core::DriveCore& core() const { return *core_; }
-  iofunc::IoFunctions& io() { return *io_; }
+  // The I/O functions of a MovingCap; null on a drive without them (FAULHABER).
+  iofunc::IoFunctions* io() { return io_.get(); }
   led::Leds& leds() { return leds_; }
   trace::Ring& trace() { return *trace_; }
   FaultInjections& faults() { return *faults_; }
@@ -111,6 +114,8 @@ class Device {
   refgo::Interpreter* refgo() { return refgo_.get(); }
   const refgo::Interpreter* refgo() const { return refgo_.get(); }
   CanopenBus* canopen() { return canopen_.get(); }
+  faulhaber::Port* faulhaber_port() { return fh_port_.get(); }
+  const faulhaber::FaulhaberConfig& faulhaber_config() const { return fh_config_; }
   const slcan::SlcanConfig& slcan_config() const { return slcan_config_; }
 
   // What the clock advances (quiet stretches skipped exactly, docs/clock.md).
@@ -153,11 +158,14 @@ class Device {
   void build_dictionary();
   void build_core();
   void build_canopen();
+  void build_faulhaber();
+  void device_reset();  // FAULHABER reset node telegram: the drive part of a power cycle, then the boot message
   void build_steps();
   void wire_faults();
   void apply_explicit_ip();
   void rebuild_ram_image();
   void reload_communication_objects();
+  void power_on(const core::PowerOnState& state);
   void reset_node();  // NMT reset node: the drive part of a power cycle (persistence.md §7)
   core::PowerOnState power_on_state_for_restart() const;
   std::string dotted_quad(std::uint16_t index) const;
@@ -177,6 +185,11 @@ class Device {
   std::unique_ptr<persistence::Service> persistence_;
   std::unique_ptr<refgo::Interpreter> refgo_;
   std::unique_ptr<CanopenBus> canopen_;
+  faulhaber::FaulhaberConfig fh_config_;
+  std::unique_ptr<faulhaber::Port> fh_port_;
+  bool fh_quiet_ = false;
+  bool has_1002_ =
+      true;  // the fault injections watch 1002h themselves  // a power on: its statusword changes are not notified
   std::unique_ptr<trace::Ring> trace_;
   std::unique_ptr<FaultInjections> faults_;
   Scope scope_;

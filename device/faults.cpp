@@ -79,7 +79,7 @@ FaultInjections::FaultInjections(od::ObjectDictionary& od, core::DriveCore& core
     if (info.index != 0x1002 || info.sub != 0) return;
     const auto alive = weak.lock();
     if (!alive || !*alive) return;
-    if (const auto* n = std::get_if<std::int64_t>(&value)) (*alive)->on_1002_changed(static_cast<std::uint32_t>(*n));
+    if (const auto* n = std::get_if<std::int64_t>(&value)) (*alive)->on_fault_bits(static_cast<std::uint32_t>(*n));
   });
   transport_.set_removed_listener([this](const std::string& id, std::string_view reason) {
     const auto it = std::find_if(active_.begin(), active_.end(), [&](const Injection& i) { return i.id == id; });
@@ -105,6 +105,9 @@ Outcome<nlohmann::json> FaultInjections::create(const std::string& text) {
   const auto& rows = kinds();
   const auto row = std::find_if(rows.begin(), rows.end(), [&](const KindRow& r) { return kind == r.name; });
   if (row == rows.end()) return bad("\"kind\": unknown fault kind \"" + kind + "\"");
+  if (available_ && !available_(kind)) {
+    return Refusal{Refusal::Kind::unavailable, "fault kind " + kind + " does not exist on this drive"};
+  }
   for (const auto& item : body.items()) {
     const std::string& key = item.key();  // not a structured binding: clang 14 cannot capture those
     if (key == "kind" || key == "count" || key == "durationMs") continue;
@@ -391,7 +394,7 @@ void FaultInjections::remove_all() {
   for (const auto& id : ids) erase(id, "all", true);
 }
 
-void FaultInjections::on_1002_changed(std::uint32_t value) {
+void FaultInjections::on_fault_bits(std::uint32_t value) {
   const std::uint32_t raised = value & ~last_1002_;
   last_1002_ = value;
   if (raised == 0) return;

@@ -70,6 +70,15 @@ class FaultInjections {
   // while an injection has used up its count).
   std::optional<std::uint64_t> next_expiry() const;
   std::size_t active() const { return active_.size(); }
+  // The fault bits in the 1002h layout (core::DriveCore::fault_bits()) after the drive changed:
+  // how drive kinds count occurrences on a drive without 1002h (FAULHABER); with 1002h the
+  // injections watch the entry themselves.
+  void observe_fault_bits(std::uint32_t bits) {
+    if (bits != last_1002_) on_fault_bits(bits);
+  }
+  // Which kinds this drive has (a FAULHABER MC has no RefGo, SLCAN, UDP or scripts): a kind it
+  // lacks is refused as unavailable instead of being listed and doing nothing.
+  void set_kind_filter(std::function<bool(std::string_view kind)> available) { available_ = std::move(available); }
 
   TransportFaults& transport() { return transport_; }
 
@@ -103,7 +112,7 @@ class FaultInjections {
   std::optional<Refusal> parse_transport(const nlohmann::json& b, Parsed& out);
   std::optional<Refusal> parse_script_kill(const nlohmann::json& b, Parsed& out);
 
-  void on_1002_changed(std::uint32_t value);
+  void on_fault_bits(std::uint32_t value);
   void erase(const std::string& id, std::string_view reason, bool undo);
   void report(const std::string& trace_text, const std::string& note_text);
 
@@ -117,6 +126,7 @@ class FaultInjections {
   Journal journal_;
   std::function<bool()> script_running_;
   std::function<void()> kill_script_;
+  std::function<bool(std::string_view)> available_;
   std::shared_ptr<FaultInjections*> self_;  // the OD change listener checks this is still alive
 };
 

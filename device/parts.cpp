@@ -35,4 +35,14 @@ std::uint64_t CanopenPart::quiet_steps() const {
 
 void CanopenPart::skip(std::uint64_t n) { bus_.step(std::chrono::milliseconds(static_cast<std::int64_t>(n))); }
 
+void FaulhaberPart::step() { port_.step(faulhaber::Millis(static_cast<std::int64_t>(core_.time_ms()))); }
+
+std::uint64_t FaulhaberPart::quiet_steps() const {
+  const auto d = port_.next_deadline();
+  return d ? sim::steps_before(static_cast<std::uint64_t>(std::max<std::int64_t>(d->count(), 0)), core_.time_ms())
+           : sim::k_forever;
+}
+
+void FaulhaberPart::skip(std::uint64_t) { step(); }
+
 }  // namespace mcemu::device

@@ -9,6 +9,7 @@
 #include "device/faults.hpp"
 #include "device/scope.hpp"
 #include "drive/drive_core.hpp"
+#include "protocols/faulhaber/port.hpp"
 #include "protocols/refgo/interpreter.hpp"
 #include "sim/drive_steps.hpp"
 
@@ -67,6 +68,20 @@ class CanopenPart final : public sim::Part {
 
  private:
   CanopenBus& bus_;
+};
+
+// The FAULHABER port: responses held back by faulhaber.response_delay_ms or behind a Store come out
+// in drive time; quiet until the port's next deadline.
+class FaulhaberPart final : public sim::Part {
+ public:
+  FaulhaberPart(faulhaber::Port& port, const core::DriveCore& core) : port_(port), core_(core) {}
+  void step() override;
+  std::uint64_t quiet_steps() const override;
+  void skip(std::uint64_t n) override;
+
+ private:
+  faulhaber::Port& port_;
+  const core::DriveCore& core_;
 };
 
 }  // namespace mcemu::device

@@ -16,6 +16,17 @@ const Personality& movingcap() {
   return p;
 }
 
-const Personality& personality_of(const model::ModelPreset&) { return movingcap(); }
+const Personality& faulhaber() {
+  static const Personality p{
+      .name = "faulhaber",
+      .faulhaber = true,
+      .basic = true,
+  };
+  return p;
+}
+
+const Personality& personality_of(const model::ModelPreset& preset) {
+  return preset.is_faulhaber() ? faulhaber() : movingcap();
+}
 
 }  // namespace mcemu::device

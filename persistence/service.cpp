@@ -35,7 +35,8 @@ Service::Service(od::ObjectDictionary& od, std::string model, std::string mcemu_
       storage_(storage),
       hooks_(std::move(hooks)) {
   if (durable_) script_ = durable_->script;
-  next_counter_ = od_.number(0x5006, 5);
+  // 5006h (MovingCap store counters) exists on the MovingCap models only; without it nothing is counted.
+  if (const auto c = od_.read_number(0x5006, 5)) next_counter_ = *c;
   for (std::uint8_t s = 1; s <= 3; ++s) {
     od_.on_write(0x1010, s, [this](od::WriteRequest& r) { return store_all(r); });
     od_.on_write(0x1011, s, [this](od::WriteRequest& r) { return restore_all(r); });
@@ -52,6 +53,7 @@ Image Service::with_counter(Image img) {
 }
 
 void Service::count_event(bool ok) {
+  if (!od_.find(0x5006, 1)) return;
   const auto bump = [&](std::uint8_t sub) {
     const auto h = od_.handle(0x5006, sub);
     od_.set(h, od::Value{(od_.number(h) + 1) & 0xFF});
@@ -79,8 +81,7 @@ void Service::submit(Image img, od::Done done, std::function<void(bool ok)> afte
       return;
     }
     durable_ = std::move(img);
-    const auto h = od_.handle(0x5006, 5);
-    if (counter > od_.number(h)) od_.set(h, od::Value{counter});
+    if (const auto h = od_.find(0x5006, 5); h && counter > od_.number(*h)) od_.set(*h, od::Value{counter});
     count_event(true);
     if (after) after(true);
     if (done) done(od::AbortCode::none);

@@ -6,6 +6,7 @@
 
 #include "device/fault_gates.hpp"
 #include "protocols/line/net/line_server.hpp"
+#include "protocols/line/net/pty_server.hpp"
 #include "protocols/refgo/session.hpp"
 #include "protocols/udp_debug/net/udp_debug_service.hpp"
 #include "server/drive_unit.hpp"
@@ -30,7 +31,10 @@ void DriveUnit::bind_listeners() {
     o.max_clients = max_clients;
     o.close_on_overflow = close_on_overflow;
     o.idle_timeout = settings_.idle_timeout;
-    if (close_on_overflow) o.pause_above = device_->slcan_config().queue_limit_bytes;
+    if (close_on_overflow) {
+      o.pause_above = name == "faulhaber" ? device_->faulhaber_config().port.queue_limit_bytes
+                                          : device_->slcan_config().queue_limit_bytes;
+    }
     try {
       return std::make_unique<line::net::LineServer>(io_, tcp::endpoint(address, port), o, std::move(factory));
     } catch (const boost::system::system_error& e) {
@@ -45,6 +49,13 @@ void DriveUnit::bind_listeners() {
   if (personality.canopen) {
     slcan_ = make_line("slcan", "SLCAN", settings_.slcan_port, "--slcan-port", settings_.slcan_max_clients, true,
                        [this](const line::net::PeerInfo& p) { return make_slcan_session(p); });
+  }
+  if (personality.faulhaber) {
+    auto port = make_line("faulhaber", "FAULHABER", settings_.faulhaber_port, "--faulhaber-port",
+                          settings_.faulhaber_max_clients, true,
+                          [this](const line::net::PeerInfo& p) { return make_faulhaber_session(p); });
+    faulhaber_ = std::move(port);
+    if (settings_.faulhaber_pty) open_faulhaber_pty();
   }
   if (personality.udp_debug) bind_udp(address);
   build_web(address);
@@ -124,6 +135,44 @@ std::unique_ptr<line::StreamSession> DriveUnit::make_refgo_session(const line::n
   };
   refgo->set_observer(std::move(observer));
   return client;
+}
+
+// --faulhaber-pty: the pseudo-terminal is one more connection of the FAULHABER port (faulhaber.md §2.2).
+void DriveUnit::open_faulhaber_pty() {
+  line::net::PtyOptions o;
+  o.link_path = *settings_.faulhaber_pty;
+  o.flag = "--faulhaber-pty";
+  o.line.name = "faulhaber";
+  o.line.close_on_overflow = true;
+  o.line.pause_above = device_->faulhaber_config().port.queue_limit_bytes;
+  try {
+    faulhaber_pty_ = std::make_unique<line::net::PtyServer>(
+        io_, std::move(o), [this](const line::net::PeerInfo& p) { return make_faulhaber_session(p); });
+  } catch (const std::runtime_error& e) {
+    throw StartupError(e.what());
+  }
+}
+
+// A FAULHABER connection (faulhaber.md §2): the port's session, every frame on the trace channel
+// faulhaber with its hex and a decoded summary (the texts are only valid during the call).
+std::unique_ptr<line::StreamSession> DriveUnit::make_faulhaber_session(const line::net::PeerInfo& peer) {
+  const auto tap = connection_trace(trace::Channel::faulhaber, peer);
+  auto session = device_->faulhaber_port()->make_session([tap](const faulhaber::TraceEvent& e) {
+    using K = faulhaber::TraceEvent::Kind;
+    const auto dir = e.kind == K::rx ? trace::Dir::rx : e.kind == K::tx ? trace::Dir::tx : trace::Dir::event;
+    std::string text;
+    text.reserve(e.hex.size() + e.summary.size() + 16);
+    if (e.kind == K::dropped) text += "dropped ";
+    if (e.kind == K::ignored) text += "ignored ";
+    text += e.hex;
+    if (!e.hex.empty() && !e.summary.empty()) text += " | ";
+    text += e.summary;
+    tap(dir, text, {});
+  });
+  auto hooks = client_hooks(false);
+  hooks.trace = tap;
+  return std::make_unique<ClientSession>(std::move(session), alive_.watch(), std::move(hooks),
+                                         "faulhaber client " + peer.address, io_.get_executor());
 }
 
 std::unique_ptr<line::StreamSession> DriveUnit::make_slcan_session(const line::net::PeerInfo& peer) {

@@ -12,6 +12,7 @@
 #include "persistence/state_dir.hpp"
 #include "persistence/worker_storage.hpp"
 #include "protocols/line/net/line_server.hpp"
+#include "protocols/line/net/pty_server.hpp"
 #include "protocols/udp_debug/net/udp_debug_service.hpp"
 #include "scripting/engine.hpp"
 #include "server/clock_driver.hpp"
@@ -146,6 +147,11 @@ void DriveUnit::start() {
   };
   if (refgo_) log_listen("refgo", "tcp", refgo_->port());
   if (slcan_) log_listen("slcan", "tcp", slcan_->port());
+  if (faulhaber_) log_listen("faulhaber", "tcp", faulhaber_->port());
+  if (faulhaber_pty_) {
+    spdlog::info("{}listening: faulhaber pty {} -> {}", log_prefix_, faulhaber_pty_->link_path(),
+                 faulhaber_pty_->subordinate());
+  }
   log_listen("http", "tcp", http_->port());
   if (udp_) log_listen("udp", "udp", udp_->local_endpoint().port());
   if (!device_->active_ip().empty()) {
@@ -153,6 +159,8 @@ void DriveUnit::start() {
   }
   if (refgo_) refgo_->start();
   if (slcan_) slcan_->start();
+  if (faulhaber_) faulhaber_->start();
+  if (faulhaber_pty_) faulhaber_pty_->start();
   http_->start();
   if (udp_debug_) {
     udp_debug_->power_up(device_->active_ip(), device_->script_id());
@@ -198,6 +206,8 @@ void DriveUnit::shutdown() {
   engine_.reset();  // kills a running script's process group
   if (refgo_) refgo_->stop();
   if (slcan_) slcan_->stop();
+  if (faulhaber_) faulhaber_->stop();
+  if (faulhaber_pty_) faulhaber_pty_->stop();
   if (http_) http_->stop();
   if (udp_debug_) udp_debug_->stop();
   if (udp_) {

@@ -32,6 +32,7 @@ class UdpDebugService;
 }
 namespace mcemu::line::net {
 class LineServer;
+class PtyServer;
 struct PeerInfo;
 }  // namespace mcemu::line::net
 namespace mcemu::web::net {
@@ -101,6 +102,8 @@ class DriveUnit {
   void bind_udp(const boost::asio::ip::address& address);
   std::unique_ptr<line::StreamSession> make_refgo_session(const line::net::PeerInfo& peer);
   std::unique_ptr<line::StreamSession> make_slcan_session(const line::net::PeerInfo& peer);
+  std::unique_ptr<line::StreamSession> make_faulhaber_session(const line::net::PeerInfo& peer);
+  void open_faulhaber_pty();
   std::function<void(trace::Dir, std::string_view, trace::Flags)> connection_trace(trace::Channel channel,
                                                                                    const line::net::PeerInfo& peer);
   ClientSession::Hooks client_hooks(bool notes);
@@ -133,6 +136,8 @@ class DriveUnit {
   std::unique_ptr<device::Device> device_;
   std::unique_ptr<line::net::LineServer> refgo_;
   std::unique_ptr<line::net::LineServer> slcan_;
+  std::unique_ptr<line::net::LineServer> faulhaber_;
+  std::unique_ptr<line::net::PtyServer> faulhaber_pty_;
   std::unique_ptr<web::api::Router> router_;
   std::unique_ptr<web::net::HttpServer> http_;
   std::unique_ptr<boost::asio::ip::udp::socket> udp_;

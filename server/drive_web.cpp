@@ -8,6 +8,7 @@
 #include "drive/od/objects.hpp"
 #include "protocols/canopen/eds.hpp"
 #include "protocols/line/net/line_server.hpp"
+#include "protocols/line/net/pty_server.hpp"
 #include "protocols/udp_debug/net/udp_debug_service.hpp"
 #include "server/clock_driver.hpp"
 #include "server/drive_image.hpp"
@@ -50,6 +51,8 @@ void DriveUnit::build_web(const asio::ip::address& address) {
     if (slcan_) i.slcan_port = slcan_->port();
     i.http_port = http_->port();
     if (udp_) i.udp_port = udp_->local_endpoint().port();
+    if (faulhaber_) i.faulhaber_port = faulhaber_->port();
+    if (faulhaber_pty_) i.faulhaber_pty = faulhaber_pty_->link_path();
     i.state_dir = settings_.state_dir;
     return i;
   };

@@ -2,6 +2,8 @@
 
 #include <set>
 
+#include "drive/model/model_preset.hpp"
+
 namespace mcemu::server {
 
 using nlohmann::json;
@@ -32,6 +34,8 @@ std::uint16_t step_port(std::uint16_t port, std::uint32_t offset, const std::str
 // Without an explicit --ip the counted address is drive k's factory address (5007h in its factory
 // image, persistence.md §6): a stored address still wins, as on drive 1.
 void set_factory_ip(Settings& s) {
+  const auto preset = model::find_preset(s.model);
+  if (preset && preset->is_faulhaber()) return;  // no IP objects: the MC is reached over RS232
   const auto o = parse_ipv4(s.ip, "--ip");
   if (!s.config.is_object()) s.config = json::object();
   json& objects = s.config["objects"];
@@ -57,6 +61,7 @@ Settings counted_drive(const Settings& process, std::size_t k) {
     s.slcan_port = step_port(process.slcan_port, by, what + ": --slcan-port");
     s.http_port = step_port(process.http_port, by, what + ": --http-port");
     s.udp_port = step_port(process.udp_port, by, what + ": --udp-port");
+    s.faulhaber_port = step_port(process.faulhaber_port, by, what + ": --faulhaber-port");
   } else {
     if (!is_ipv4(process.bind)) {
       throw UsageError("--drives with an IPv6 --bind needs --port-step (addresses are counted as IPv4 numbers)");
@@ -67,6 +72,8 @@ Settings counted_drive(const Settings& process, std::size_t k) {
     s.bind = add_to_ipv4(process.bind, offset, what + ": --bind");
   }
   s.ip = add_to_ipv4(process.ip, offset, what + ": --ip");
+  // one pseudo-terminal per drive: drive k ≥ 2 gets PATH-k (docs/fleet.md)
+  if (process.faulhaber_pty) s.faulhaber_pty = *process.faulhaber_pty + "-" + std::to_string(k);
   return s;
 }
 

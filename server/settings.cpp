@@ -21,8 +21,8 @@ constexpr std::uint64_t k_max_drives = 4096;
 constexpr std::uint64_t k_max_idle_timeout_s = 7 * 24 * 3600;  // a week
 const std::set<std::string> k_levels = {"trace", "debug", "info", "warn", "error", "critical", "off"};
 // Top-level config sections owned by components; validated there.
-const std::set<std::string> k_sections = {"objects",  "model_overrides", "plant", "homing", "slcan",    "canopen",
-                                          "settings", "refgo",           "http",  "udp",    "scripting"};
+const std::set<std::string> k_sections = {"objects",  "model_overrides", "plant", "homing", "slcan",     "canopen",
+                                          "settings", "refgo",           "http",  "udp",    "scripting", "faulhaber"};
 
 std::string names_of_presets() {
   std::string out;
@@ -83,6 +83,12 @@ void set_option(Settings& s, const std::string& name, const std::string& value, 
     s.http_port = parse_port(value, what);
   } else if (name == "udp-port") {
     s.udp_port = parse_port(value, what);
+  } else if (name == "faulhaber-port") {
+    s.faulhaber_port = parse_port(value, what);
+  } else if (name == "faulhaber-pty") {
+    if (value.empty() || value.back() == '/')
+      throw UsageError("invalid value '" + value + "' for " + what + " (a file path)");
+    s.faulhaber_pty = value;
   } else if (name == "ip") {
     parse_ipv4(value, what);
     s.ip = value;
@@ -113,7 +119,7 @@ void set_option(Settings& s, const std::string& name, const std::string& value, 
     s.idle_timeout = std::chrono::seconds(parse_uint(value, k_max_idle_timeout_s, what));
   } else if (name == "max-clients") {
     const auto n = parse_clients(value, what);
-    s.refgo_max_clients = s.slcan_max_clients = s.http_max_clients = n;
+    s.refgo_max_clients = s.slcan_max_clients = s.http_max_clients = s.faulhaber_max_clients = n;
   } else if (name == "clock") {
     try {
       s.clock = sim::parse_clock_mode(value);
@@ -126,8 +132,9 @@ void set_option(Settings& s, const std::string& name, const std::string& value, 
 }
 
 const std::set<std::string> k_value_flags = {
-    "model",  "bind",      "refgo-port",  "slcan-port",   "http-port", "udp-port",  "ip",    "state-dir",
-    "config", "log-level", "max-clients", "idle-timeout", "drives",    "port-step", "fleet", "clock"};
+    "model",  "bind",      "refgo-port", "slcan-port", "http-port",      "udp-port",
+    "ip",     "state-dir", "config",     "log-level",  "max-clients",    "idle-timeout",
+    "drives", "port-step", "fleet",      "clock",      "faulhaber-port", "faulhaber-pty"};
 
 std::string scalar_text(const json& v, const std::string& what) {
   if (v.is_string()) return v.get<std::string>();
@@ -243,23 +250,29 @@ Settings parse_command_line(const std::vector<std::string>& args) {
 }
 
 std::string help_text() {
-  return R"(mcemu — emulator of a Fullmo MovingCap Ethernet servo drive
+  return R"(mcemu — emulator of a Fullmo MovingCap Ethernet servo drive and of the FAULHABER
+MotionController V3.0
 
 Usage: mcemu [options]
 
   --model NAME        drive model preset (default MC349): MC349, MC349_AE, MCN23, MCFLAT,
-                      MCSHORT, MC632, MC634, MC636, PUSHTRACK
+                      MCSHORT, MC632, MC634, MC636, PUSHTRACK; FAULHABER: FH_MC5004, FH_MC5005,
+                      FH_MC5010, FH_MCS (binary protocol + JSON API, docs/faulhaber.md)
   --bind ADDR         address all services listen on (default 127.0.0.1)
   --refgo-port N      RefGo text commands, TCP (default 10001; 0 = any free port, logged)
   --slcan-port N      CANopen over SLCAN, TCP (default 15001)
   --http-port N       web UI and JSON API, HTTP (default 80)
   --udp-port N        debug output, UDP (default 14999)
+  --faulhaber-port N  FAULHABER binary RS232 protocol over TCP (default 10002; FH_ models only)
+  --faulhaber-pty P   also a pseudo-terminal, its subordinate side symlinked at P (a serial port
+                      for pyserial, minicom …; removed at exit; FH_ models only)
   --ip A.B.C.D        the drive's own IP address as it reports it (default 192.168.2.150)
   --state-dir DIR     where Store Permanently keeps parameters (default ./mcemu-state)
   --config FILE       JSON file with any of these options (without "--") and sections
                       "objects", "model_overrides", "plant", "homing", "slcan", "canopen", "settings"
   --log-level L       trace, debug, info, warn, error, critical, off (default info)
-  --max-clients N     simultaneous TCP connections per service (default 8 RefGo/SLCAN, 32 HTTP)
+  --max-clients N     simultaneous TCP connections per service (default 8 RefGo/SLCAN/FAULHABER,
+                      32 HTTP)
   --drives N          N independent drives in this process (default 1): drive k listens on
                       --bind + (k-1) and reports --ip + (k-1), state file drive-k.json
   --port-step S       with --drives: one bind address, drive k's ports are each port + (k-1)*S

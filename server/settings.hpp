@@ -29,6 +29,8 @@ struct Settings {
   std::uint16_t slcan_port = 15001;
   std::uint16_t http_port = 80;
   std::uint16_t udp_port = 14999;
+  std::uint16_t faulhaber_port = 10002;      // FAULHABER binary protocol over TCP (faulhaber.md §2.1)
+  std::optional<std::string> faulhaber_pty;  // a pseudo-terminal symlinked here (faulhaber.md §2.2)
   std::string ip = "192.168.2.150";
   bool ip_explicit = false;  // --ip on the command line or "ip" in the config (persistence.md §6)
   std::string state_dir = "./mcemu-state";
@@ -37,6 +39,7 @@ struct Settings {
   std::size_t refgo_max_clients = 8;
   std::size_t slcan_max_clients = 8;
   std::size_t http_max_clients = 32;
+  std::size_t faulhaber_max_clients = 8;
   // Fleets (server/fleet.hpp): --drives N, --port-step S, --fleet FILE (its JSON list in `fleet`).
   std::size_t drives = 1;
   std::optional<std::uint32_t> port_step;

@@ -4,19 +4,23 @@
 
 namespace mcemu::sim {
 
-DriveSteps::DriveSteps(od::ObjectDictionary& od, iofunc::IoFunctions& io, const core::DriveCore& core)
+DriveSteps::DriveSteps(od::ObjectDictionary& od, iofunc::IoFunctions* io, core::DriveCore& core)
     : od_(od), io_(io), core_(core) {}
 
 void DriveSteps::step() {
   dirty_ = false;
-  io_.step();
+  if (io_) {
+    io_->step();
+  } else {
+    core_.step();
+  }
   for (Part* p : parts_) p->step();
   generation_ = od_.generation();
 }
 
 std::uint64_t DriveSteps::quiet_steps() const {
   if (dirty_ || od_.generation() != generation_) return 0;
-  std::uint64_t q = io_.quiet_steps();
+  std::uint64_t q = io_ ? io_->quiet_steps() : core_.quiet_steps();
   for (const Part* p : parts_) {
     if (q == 0) break;
     q = std::min(q, p->quiet_steps());
@@ -26,7 +30,11 @@ std::uint64_t DriveSteps::quiet_steps() const {
 
 void DriveSteps::skip(std::uint64_t n) {
   if (n == 0) return;
-  io_.skip(n);
+  if (io_) {
+    io_->skip(n);
+  } else {
+    core_.skip(n);
+  }
   for (Part* p : parts_) p->skip(n);
 }
 

@@ -34,7 +34,8 @@ class Part {
 
 class DriveSteps final : public Steppable {
  public:
-  DriveSteps(od::ObjectDictionary& od, iofunc::IoFunctions& io, const core::DriveCore& core);
+  // `io` may be null (a drive without I/O functions, faulhaber.md): then the core is stepped directly.
+  DriveSteps(od::ObjectDictionary& od, iofunc::IoFunctions* io, core::DriveCore& core);
   void add(Part& part) { parts_.push_back(&part); }
 
   void step() override;
@@ -50,8 +51,8 @@ class DriveSteps final : public Steppable {
 
  private:
   od::ObjectDictionary& od_;
-  iofunc::IoFunctions& io_;
-  const core::DriveCore& core_;
+  iofunc::IoFunctions* io_;
+  core::DriveCore& core_;
   std::vector<Part*> parts_;
   bool dirty_ = true;
   std::uint64_t generation_ = 0;  // od.generation() at the end of the last step

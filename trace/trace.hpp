@@ -19,8 +19,8 @@
 
 namespace mcemu::trace {
 
-enum class Channel : std::uint8_t { refgo, slcan, udp, http, script, drive, api };
-inline constexpr std::size_t k_channel_count = 7;
+enum class Channel : std::uint8_t { refgo, slcan, udp, http, script, drive, api, faulhaber, basic };
+inline constexpr std::size_t k_channel_count = 9;
 enum class Dir : std::uint8_t { rx, tx, event };
 
 std::string_view to_string(Channel c);

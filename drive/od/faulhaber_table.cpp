@@ -70,6 +70,17 @@ void cia301(Builder& b, const model::ModelPreset& p) {
   b.add(0x1008, 0, T::visible_string, A::const_, C::const_, "Manufacturer Device Name", Value{id.device_name});
   b.add(0x100A, 0, T::visible_string, A::const_, C::const_, "Manufacturer Software Version",
         Value{id.software_version});
+  // Store / restore parameters (CiA 301 §7.5.2.13/14): "save" / "load" signatures, as on every
+  // CiA 301 drive; the MC V3.0 keeps its parameters in EEPROM this way (AN165 warns about its write
+  // cycles). Sub-index 1 all, 2 communication, 3 application parameters.
+  b.begin(0x1010, k_array, "Store parameters", 3);
+  b.add(0x1010, 1, T::unsigned32, A::rw, C::cmd, "save all parameters", Value{1});
+  b.add(0x1010, 2, T::unsigned32, A::rw, C::cmd, "save communication parameters", Value{1});
+  b.add(0x1010, 3, T::unsigned32, A::rw, C::cmd, "save application parameters", Value{1});
+  b.begin(0x1011, k_array, "Restore default parameters", 3);
+  b.add(0x1011, 1, T::unsigned32, A::rw, C::cmd, "restore all default parameters", Value{1});
+  b.add(0x1011, 2, T::unsigned32, A::rw, C::cmd, "restore communication default parameters", Value{1});
+  b.add(0x1011, 3, T::unsigned32, A::rw, C::cmd, "restore application default parameters", Value{1});
   b.begin(0x1018, k_record, "Identity Object", 4);
   b.add(0x1018, 1, T::unsigned32, A::ro, C::const_, "Vendor-ID", Value{std::int64_t{id.vendor_id}});
   b.add(0x1018, 2, T::unsigned32, A::ro, C::const_, "Product Code", Value{std::int64_t{id.product_code}});

@@ -47,7 +47,8 @@ class Mcemu:
         self.state_dir = state_dir
         cmd = [MCEMU, "--state-dir", state_dir]
         if ports_zero:
-            cmd += ["--refgo-port", "0", "--slcan-port", "0", "--http-port", "0", "--udp-port", "0"]
+            cmd += ["--refgo-port", "0", "--slcan-port", "0", "--http-port", "0", "--udp-port", "0",
+                    "--faulhaber-port", "0"]
         cmd += list(args)
         full_env = dict(os.environ)
         full_env.update(env or {})

@@ -24,7 +24,7 @@ struct Rig {
   refgo::Interpreter refgo{od, core};
   device::FaultsPart faults_part{faults, core};
   device::RefgoPart refgo_part{refgo, core};
-  DriveSteps steps{od, io, core};
+  DriveSteps steps{od, &io, core};
   Rig() {
     steps.add(faults_part);
     steps.add(refgo_part);

@@ -67,7 +67,7 @@ class DeviceFixture {
   device::Device& device() { return *device_; }
   od::ObjectDictionary& od() { return device_->od(); }
   core::DriveCore& core() { return device_->core(); }
-  iofunc::IoFunctions& io() { return device_->io(); }
+  iofunc::IoFunctions& io() { return *device_->io(); }
   refgo::Interpreter& refgo() { return *device_->refgo(); }
   const model::ModelPreset& preset() const { return device_->preset(); }
   MemoryStorage& storage() { return storage_; }

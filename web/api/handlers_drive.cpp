@@ -50,7 +50,19 @@ nlohmann::json Router::info_json() const {
   const bool available = services_.script && services_.script->available();
   json scripting{{"available", available}, {"engine", available ? json(services_.script->engine()) : json(nullptr)}};
   if (services_.script && !available) scripting["reason"] = services_.script->engine();
+  // The services of the drive's personality (a FAULHABER MC has neither RefGo, SLCAN nor UDP).
+  json ports = json::object();
+  const auto& personality = device_.personality();
+  if (personality.refgo) ports["refgo"] = i.refgo_port;
+  if (personality.canopen) ports["slcan"] = i.slcan_port;
+  ports["http"] = i.http_port;
+  if (personality.udp_debug) ports["udp"] = i.udp_port;
+  if (personality.faulhaber) {
+    ports["faulhaber"] = i.faulhaber_port;
+    if (!i.faulhaber_pty.empty()) ports["faulhaberPty"] = i.faulhaber_pty;
+  }
   return json{{"emulator", "mcemu"},
+              {"personality", personality.name},
               {"version", i.version},
               {"model", i.model},
               {"displayName", i.display_name},
@@ -60,7 +72,7 @@ nlohmann::json Router::info_json() const {
               {"ip", i.ip},
               {"mask", i.mask},
               {"bind", i.bind},
-              {"ports", {{"refgo", i.refgo_port}, {"slcan", i.slcan_port}, {"http", i.http_port}, {"udp", i.udp_port}}},
+              {"ports", ports},
               {"stateDir", i.state_dir},
               {"scripting", scripting},
               {"clock", {{"mode", clock.mode}, {"scale", scale_json(clock.scale)}}}};

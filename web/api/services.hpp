@@ -34,6 +34,8 @@ struct Info {
   std::uint16_t slcan_port = 0;
   std::uint16_t http_port = 0;
   std::uint16_t udp_port = 0;
+  std::uint16_t faulhaber_port = 0;
+  std::string faulhaber_pty;  // the symlink of --faulhaber-pty ("" without)
   std::string state_dir;
 };
 

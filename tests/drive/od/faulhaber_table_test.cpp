@@ -165,12 +165,17 @@ TEST(FaulhaberDictionary, NoMovingCapManufacturerObjects) {
       EXPECT_TRUE(faulhaber) << std::hex << i;
     }
   }
-  for (const std::uint16_t i :
-       {0x1002, 0x1010, 0x1011, 0x1400, 0x1800, 0x3300, 0x3401, 0x3404, 0x3500, 0x3510, 0x3511,
-        0x3611, 0x5000, 0x5006, 0x5007, 0x6059, 0x6073, 0x6078, 0x60B8, 0x60F2, 0x60FD, 0x60FE}) {
+  for (const std::uint16_t i : {0x1002, 0x1400, 0x1800, 0x3300, 0x3401, 0x3404, 0x3500, 0x3510, 0x3511, 0x3611,
+                                0x5000, 0x5006, 0x5007, 0x6059, 0x6073, 0x6078, 0x60B8, 0x60F2, 0x60FD, 0x60FE}) {
     EXPECT_FALSE(od.has_object(i)) << std::hex << i;
   }
   EXPECT_EQ(od.read_number(0x3401, 1).error(), AbortCode::no_object);
+  // CiA 301 store / restore (1010h, 1011h) are the standard's, not MovingCap objects: the MC keeps
+  // its parameters with "save" to 1010h.01 like every CiA 301 drive (POST /api/v1/store uses it).
+  for (const std::uint16_t i : {0x1010, 0x1011}) {
+    EXPECT_EQ(od.read_number(i, 0).value(), 3) << std::hex << i;
+    EXPECT_EQ(od.info(i, 1)->access, Access::rw) << std::hex << i;
+  }
 }
 
 struct LimitCase {
