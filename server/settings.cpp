@@ -126,8 +126,8 @@ void set_option(Settings& s, const std::string& name, const std::string& value, 
 }
 
 const std::set<std::string> k_value_flags = {
-    "model",  "bind",      "refgo-port",  "slcan-port",   "http-port", "udp-port",  "ip",    "state-dir",
-    "config", "log-level", "max-clients", "idle-timeout", "drives",    "port-step", "fleet", "clock"};
+    "model",     "bind",        "refgo-port",   "slcan-port", "http-port", "udp-port", "ip",    "state-dir", "config",
+    "log-level", "max-clients", "idle-timeout", "drives",     "port-step", "fleet",    "clock"};
 
 std::string scalar_text(const json& v, const std::string& what) {
   if (v.is_string()) return v.get<std::string>();
@@ -214,9 +214,13 @@ Settings parse_command_line(const std::vector<std::string>& args) {
       value = name.substr(eq + 1);
       name = name.substr(0, eq);
     }
-    if (name == "help" || name == "version" || name == "dump-od" || name == "dump-eds") {
+    if (name == "help" || name == "version" || name == "dump-od" || name == "dump-eds" || name == "unsafe-scripts") {
       if (value) throw UsageError("option --" + name + " takes no value");
-      (name == "help" ? s.help : name == "version" ? s.version : name == "dump-od" ? s.dump_od : s.dump_eds) = true;
+      (name == "help"             ? s.help
+       : name == "version"        ? s.version
+       : name == "dump-od"        ? s.dump_od
+       : name == "unsafe-scripts" ? s.unsafe_scripts
+                                  : s.dump_eds) = true;
       continue;
     }
     if (!k_value_flags.count(name)) throw UsageError("unknown option --" + name + " (see --help)");
@@ -269,6 +273,9 @@ Usage: mcemu [options]
                       TCP keepalive is always on)
   --clock MODE        real (default: 1 ms steps paced by the wall clock), scaled:X (drive time =
                       X x wall time, 0.1 <= X <= 1000) or manual (POST /api/v1/clock/advance)
+  --unsafe-scripts    run MovingCap CODE scripts even where their sandbox (bwrap, seccomp) cannot
+                      be set up: they then run with mcemu's user rights and network access
+                      (command line only; docs/security.md)
   --dump-od           print the object dictionary of the model as JSON and exit
   --dump-eds          print the model's CANopen EDS (CiA 306) and exit, e.g. for python-canopen
   --version           print the version and exit

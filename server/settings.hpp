@@ -45,6 +45,9 @@ struct Settings {
   // servers (RefGo, SLCAN) and the HTTP server apply it.
   std::chrono::seconds idle_timeout{0};
   ClockMode clock;  // --clock real | scaled:X | manual
+  // --unsafe-scripts: where the script sandbox cannot be set up, run scripts without it (loudly).
+  // Command line only: a config file cannot switch it on (docs/security.md).
+  bool unsafe_scripts = false;
   bool dump_od = false;
   bool dump_eds = false;
   bool help = false;

@@ -63,6 +63,16 @@ TEST(CommandLine, AllFlagsBothSpellings) {
   EXPECT_THROW(parse_command_line({"--dump-eds=1"}), UsageError);
 }
 
+TEST(CommandLine, UnsafeScriptsOnlyFromTheCommandLine) {
+  EXPECT_FALSE(parse_command_line({}).unsafe_scripts) << "the sandbox is required by default";
+  EXPECT_TRUE(parse_command_line({"--unsafe-scripts"}).unsafe_scripts);
+  EXPECT_THROW(parse_command_line({"--unsafe-scripts=1"}), UsageError);
+  for (const json& config : {json{{"unsafe-scripts", true}}, json{{"unsafe_scripts", true}}}) {
+    Settings s;
+    EXPECT_THROW(apply_config(s, config, {}), UsageError) << config.dump() << ": not from a config file";
+  }
+}
+
 struct Bad {
   std::vector<std::string> args;
   std::string message_part;

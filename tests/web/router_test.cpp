@@ -572,9 +572,11 @@ class FakeScript final : public ScriptControl {
   void code_act(int n) override { calls.push_back("codeAct " + std::to_string(n)); }
   PythonStatus status() const override { return PythonStatus{state, 7}; }
   int refgo_attach_mode() const override { return 2; }
+  SandboxView sandbox() const override { return sandbox_view; }
 
   std::string id = "demo", state = "OFF", source;
   bool usable = true;
+  SandboxView sandbox_view;
   std::vector<std::string> calls;
 };
 
@@ -609,6 +611,26 @@ TEST(Router, ScriptEndpointsForwardToTheEngine) {
   script.state = "RUN";
   EXPECT_EQ(f.call("POST", "/api/v1/faults", R"({"kind": "script.kill"})").status, 201);
   EXPECT_EQ(script.calls.back(), "kill");
+}
+
+// docs/security.md: /api/v1/info says whether scripts run in the sandbox, what it is, or why not.
+TEST(Router, InfoReportsTheScriptSandbox) {
+  ApiFixture f;
+  FakeScript script;
+  f.services.script = &script;
+  f.make_router();
+  EXPECT_FALSE(f.get("/api/v1/info")["scripting"].contains("sandbox")) << "nothing known, nothing said";
+  script.sandbox_view = {true, true, false, "bubblewrap 0.8.0: no network"};
+  EXPECT_EQ(f.get("/api/v1/info")["scripting"]["sandbox"],
+            (json{{"active", true}, {"unsafe", false}, {"description", "bubblewrap 0.8.0: no network"}}));
+  script.sandbox_view = {true, false, true, "UNSAFE: scripts run without the script sandbox"};
+  EXPECT_EQ(f.get("/api/v1/info")["scripting"]["sandbox"],
+            (json{{"active", false}, {"unsafe", true}, {"reason", "UNSAFE: scripts run without the script sandbox"}}));
+  script.usable = false;
+  script.sandbox_view = {true, false, false, "scripts do not run because the script sandbox cannot be set up (x)"};
+  const auto info = f.get("/api/v1/info")["scripting"];
+  EXPECT_EQ(info["available"], false);
+  EXPECT_EQ(info["sandbox"]["reason"], "scripts do not run because the script sandbox cannot be set up (x)");
 }
 
 // scripting.md §10.1.8: no usable python3 — the start is made (its UDP lines say so) and answered

@@ -50,6 +50,11 @@ nlohmann::json Router::info_json() const {
   const bool available = services_.script && services_.script->available();
   json scripting{{"available", available}, {"engine", available ? json(services_.script->engine()) : json(nullptr)}};
   if (services_.script && !available) scripting["reason"] = services_.script->engine();
+  // docs/security.md: whether scripts run in the OS sandbox, and what it is or why there is none
+  if (const SandboxView sb = services_.script ? services_.script->sandbox() : SandboxView{}; sb.known) {
+    scripting["sandbox"] =
+        json{{"active", sb.active}, {"unsafe", sb.unsafe}, {sb.active ? "description" : "reason", sb.text}};
+  }
   return json{{"emulator", "mcemu"},
               {"version", i.version},
               {"model", i.model},
