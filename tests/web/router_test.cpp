@@ -843,12 +843,12 @@ TEST(Router, RuntimeSettings) {
       f.get("/api/v1/settings"),
       (json{
           {"udpEmulatorNotes", false}, {"scriptStrict", true}, {"scriptMemoryMiB", 128}, {"traceScriptCalls", false}}));
-  auto r = f.call("PUT", "/api/v1/settings", R"({"scriptStrict": false, "scriptMemoryMiB": 8})");
+  auto r = f.call("PUT", "/api/v1/settings", R"({"traceScriptCalls": true, "scriptMemoryMiB": 8})");
   ASSERT_EQ(r.status, 200);
   EXPECT_EQ(f.json_of(r)["scriptMemoryMiB"], 32) << "below 32 is taken as 32";
-  EXPECT_EQ(f.json_of(r)["scriptStrict"], false);
+  EXPECT_EQ(f.json_of(r)["traceScriptCalls"], true);
   ASSERT_EQ(changes.size(), 1u);
-  EXPECT_FALSE(changes[0].script_strict);
+  EXPECT_TRUE(changes[0].trace_script_calls);
   for (const char* bad : {R"({"nope": true})", R"({"udpEmulatorNotes": "yes"})", R"({"scriptMemoryMiB": 1.5})",
                           R"({"scriptMemoryMiB": -1})", R"({"scriptMemoryMiB": true})", R"([])",
                           R"({"scriptStrict": true, "unknown": 1})", ""}) {
@@ -859,9 +859,58 @@ TEST(Router, RuntimeSettings) {
       f.json_of(f.call("PUT", "/api/v1/settings", R"({"nope": true})"))["error"]["message"].get<std::string>().find(
           "nope"),
       std::string::npos);
-  EXPECT_EQ(f.get("/api/v1/settings")["scriptStrict"], false) << "a refused change changes nothing";
+  EXPECT_EQ(f.get("/api/v1/settings")["traceScriptCalls"], true) << "a refused change changes nothing";
   EXPECT_EQ(changes.size(), 1u);
   EXPECT_EQ(f.r().settings().script_memory_mib, 32);
+}
+
+// docs/security.md: over HTTP the script settings may be tightened, never relaxed beyond their start
+// values — 403, nothing changes, nothing is told to the server.
+TEST(Router, RelaxingScriptSettingsOverHttpIs403) {
+  ApiFixture f;
+  std::vector<RuntimeSettings> changes;
+  f.services.settings_changed = [&](const RuntimeSettings& s) { changes.push_back(s); };
+  f.make_router();
+  for (const char* relax : {R"({"scriptStrict": false})", R"({"scriptMemoryMiB": 257})",
+                            R"({"traceScriptCalls": true, "scriptStrict": false})"}) {
+    const auto r = f.call("PUT", "/api/v1/settings", relax);
+    EXPECT_EQ(r.status, 403) << relax;
+    EXPECT_EQ(f.json_of(r)["error"]["code"], "forbidden");
+    EXPECT_NE(f.json_of(r)["error"]["message"].get<std::string>().find("config file"), std::string::npos);
+  }
+  EXPECT_TRUE(changes.empty());
+  EXPECT_EQ(f.get("/api/v1/settings")["traceScriptCalls"], false) << "all or nothing";
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"scriptStrict": true, "scriptMemoryMiB": 256})").status, 200);
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"scriptMemoryMiB": 64})").status, 200) << "tightening is fine";
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"scriptMemoryMiB": 256})").status, 200) << "back to the default";
+}
+
+TEST(Router, WhatTheConfigFileRelaxedHttpMayRestore) {
+  ApiFixture f;
+  f.services.settings.script_strict = false;
+  f.services.settings.script_memory_mib = 1024;
+  f.make_router();
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"scriptStrict": true, "scriptMemoryMiB": 64})").status, 200);
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"scriptStrict": false, "scriptMemoryMiB": 1024})").status, 200);
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"scriptMemoryMiB": 1025})").status, 403);
+}
+
+TEST(RuntimeSettingsJson, Relaxation) {
+  const RuntimeSettings start;
+  RuntimeSettings next;
+  EXPECT_FALSE(relaxation(start, next));
+  next.script_strict = false;
+  EXPECT_TRUE(relaxation(start, next));
+  next = start;
+  next.script_memory_mib = RuntimeSettings::k_default_script_memory_mib + 1;
+  EXPECT_TRUE(relaxation(start, next));
+  RuntimeSettings small = start;
+  small.script_memory_mib = 64;  // a config that starts lower still lets HTTP go up to the default
+  next.script_memory_mib = RuntimeSettings::k_default_script_memory_mib;
+  EXPECT_FALSE(relaxation(small, next));
+  next.udp_emulator_notes = true;
+  next.trace_script_calls = true;
+  EXPECT_FALSE(relaxation(small, next)) << "the other settings are not the sandbox's business";
 }
 
 TEST(RuntimeSettingsJson, AllOrNothing) {

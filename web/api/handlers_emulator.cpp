@@ -144,7 +144,11 @@ void Router::get_settings(const Ctx& c) { c.respond(json_response(200, settings_
 void Router::put_settings(const Ctx& c) {
   const auto body = json_object_body(c.req);
   if (!body) return c.respond(bad("expected a JSON object of settings"));
-  if (auto error = apply_settings(settings_, *body)) return c.respond(bad(*error));
+  RuntimeSettings next = settings_;
+  if (auto error = apply_settings(next, *body)) return c.respond(bad(*error));
+  // docs/security.md: relaxing the script settings is for the command line and the config file
+  if (auto why = relaxation(services_.settings, next)) return c.respond(error_json(403, "forbidden", *why));
+  settings_ = next;
   journal(c.req, "settings " + dump_json(*body));
   if (services_.settings_changed) services_.settings_changed(settings_);
   c.respond(json_response(200, settings_json(settings_)));
