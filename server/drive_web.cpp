@@ -115,6 +115,7 @@ void DriveUnit::build_web(const asio::ip::address& address) {
   };
   services.trace = trace_.get();
   services.script = &script_control();
+  services.api_token = settings_.api_token;  // --api-token FILE (docs/security.md); "" = off
   router_ = std::make_shared<web::api::Router>(web::api::Drive{*od_, *core_, *refgo_interpreter_, preset_},
                                                std::move(services));
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "tests/web/api_fixture.hpp"
 #include "web/api/http_util.hpp"
@@ -829,6 +830,84 @@ TEST(Router, WebSocketPathWithoutUpgradeIs426) {
   const auto r = f.call("GET", "/api/v1/ws");
   EXPECT_EQ(r.status, 426);
   EXPECT_EQ(header(r, "Upgrade"), "websocket");
+}
+
+// ---- docs/security.md: --api-token ----------------------------------------------------------------
+
+Request with_auth(Request r, std::string value) {
+  r.headers.emplace_back("authorization", std::move(value));
+  return r;
+}
+
+TEST(ApiToken, EmulatorEndpointsNeedItAndTheDrivesOwnStayOpen) {
+  ApiFixture f;
+  f.services.api_token = "0123456789abcdef-token";
+  f.make_router();
+  const auto answer = [&](Request req) {
+    Response out;
+    f.r().handle(req, [&](Response r) { out = std::move(r); });
+    return out;
+  };
+  // the token rows of the table: refused without the token, before anything is looked at
+  for (const auto& [method, path, body] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"PUT", "/api/v1/settings", R"({"traceScriptCalls": true})"},
+           {"POST", "/api/v1/clock/advance", R"({"ms": 1})"},
+           {"POST", "/api/v1/power-cycle", "{}"},
+           {"POST", "/api/v1/faults", R"({"kind": "udp.drop"})"},
+           {"DELETE", "/api/v1/faults", ""},
+           {"DELETE", "/api/v1/faults/f1", ""}}) {
+    for (const char* auth : {"", "Bearer wrong", "Bearer 0123456789abcdef-toke", "Basic 0123456789abcdef-token",
+                             "Bearer 0123456789abcdef-token2"}) {
+      auto req = make_request(method, path, "application/json", body);
+      const auto r = answer(*auth ? with_auth(req, auth) : req);
+      EXPECT_EQ(r.status, 401) << method << " " << path << " with '" << auth << "'";
+      EXPECT_EQ(f.json_of(r)["error"]["code"], "unauthorized");
+      EXPECT_EQ(header(r, "WWW-Authenticate"), "Bearer realm=\"mcemu\"");
+    }
+    const auto ok =
+        answer(with_auth(make_request(method, path, "application/json", body), "bearer  0123456789abcdef-token"));
+    EXPECT_NE(ok.status, 401) << method << " " << path;
+  }
+  EXPECT_EQ(f.get("/api/v1/settings")["traceScriptCalls"], true) << "the authorised PUT was applied";
+  // everything the real drive has, and reading the emulator's state, stays open
+  EXPECT_EQ(f.call("GET", "/api/v1/info").status, 200);
+  EXPECT_EQ(f.call("GET", "/api/v1/settings").status, 200);
+  EXPECT_EQ(f.call("GET", "/api/v1/faults").status, 200);
+  EXPECT_EQ(f.call("PUT", "/api/v1/objects/6083/0", R"({"value": 2000})", "application/json").status, 200);
+  EXPECT_EQ(f.call("POST", "/api/v1/refgo", R"({"line": "TP"})").status, 200);
+  EXPECT_NE(f.call("GET", "/index.html").status, 401);
+}
+
+TEST(ApiToken, WithoutTheFlagNothingChanges) {
+  ApiFixture f;
+  f.make_router();
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"traceScriptCalls": true})", "application/json").status, 200);
+  EXPECT_EQ(f.call("DELETE", "/api/v1/faults").status, 200);
+}
+
+TEST(ApiToken, TheOpenApiDocumentMarksTheTokenRows) {
+  ApiFixture f;
+  const json doc = f.get("/api/v1/openapi.json");
+  EXPECT_EQ(doc["components"]["securitySchemes"]["bearer"]["scheme"], "bearer");
+  EXPECT_TRUE(doc["paths"]["/api/v1/settings"]["put"].contains("security"));
+  EXPECT_TRUE(doc["paths"]["/api/v1/settings"]["put"]["responses"].contains("401"));
+  EXPECT_FALSE(doc["paths"]["/api/v1/settings"]["get"].contains("security"));
+  EXPECT_FALSE(doc["paths"]["/api/v1/objects/{index}/{sub}"]["put"].contains("security"));
+  std::size_t rows = 0;
+  for (const auto& r : Router::route_docs()) rows += r.token ? 1 : 0;
+  EXPECT_EQ(rows, 6U) << "settings, clock advance, power cycle, faults (create, clear, remove)";
+}
+
+TEST(ApiToken, BearerMatching) {
+  EXPECT_TRUE(bearer_matches("Bearer abc", "abc"));
+  EXPECT_TRUE(bearer_matches("BEARER   abc  ", "abc"));
+  EXPECT_FALSE(bearer_matches(std::nullopt, "abc"));
+  EXPECT_FALSE(bearer_matches("Bearer abc", ""));
+  EXPECT_FALSE(bearer_matches("Bearer ab", "abc"));
+  EXPECT_FALSE(bearer_matches("Bearer abcd", "abc"));
+  EXPECT_FALSE(bearer_matches("Bearer", "abc"));
+  EXPECT_FALSE(bearer_matches("Bearerabc", "abc"));
+  EXPECT_FALSE(bearer_matches("Token abc", "abc"));
 }
 
 // ---- §8.9 settings --------------------------------------------------------------------------------

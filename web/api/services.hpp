@@ -142,6 +142,9 @@ struct Services {
   trace::Ring* trace = nullptr;
   // The script engine; null = no engine in this build (503).
   ScriptControl* script = nullptr;
+  // --api-token FILE (docs/security.md): when not empty, the route table's token rows (settings,
+  // clock, power cycle, faults) answer 401 without "Authorization: Bearer <this>".
+  std::string api_token;
 };
 
 }  // namespace mcemu::web::api
