@@ -148,10 +148,9 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
   setrlimit(RLIMIT_AS, &as);
   const rlimit core{0, 0};
   setrlimit(RLIMIT_CORE, &core);
-  const rlimit files{64, 64};
-  setrlimit(RLIMIT_NOFILE, &files);
   setpriority(PRIO_PROCESS, 0, 10);
-  // Move the sources above every target first, so that no dup2 overwrites another source.
+  // Move the sources above every target first, so that no dup2 overwrites another source (before
+  // RLIMIT_NOFILE 64: with a thousand clients mcemu's descriptors reach far beyond 64).
   std::array<int, 16> moved{};
   for (std::size_t k = 0; k < nfds; ++k) {
     moved[k] = fcntl(fds[k].first, F_DUPFD, 16);
@@ -165,6 +164,8 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
   if (syscall(SYS_close_range, static_cast<unsigned>(top + 1), ~0U, 0U) != 0) {
     for (int fd = top + 1; fd < 4096; ++fd) close(fd);
   }
+  const rlimit files{64, 64};
+  setrlimit(RLIMIT_NOFILE, &files);
   if (workdir[0] != '\0' && chdir(workdir) != 0) _exit(126);
   if (ids) {
     if (setgroups(0, nullptr) != 0 || setgid(ids->gid) != 0 || setuid(ids->uid) != 0) _exit(126);
