@@ -66,7 +66,9 @@ TEST(CommandLine, AllFlagsBothSpellings) {
 TEST(CommandLine, ApiTokenFile) {
   EXPECT_EQ(token_of_file_text("0123456789abcdef\n", "f"), "0123456789abcdef");
   EXPECT_EQ(token_of_file_text("  s3cr3t-t0ken-of-mcemu \r\nsecond line ignored\n", "f"), "s3cr3t-t0ken-of-mcemu");
-  for (const char* bad : {"", "\n", "short\n", "0123456789 abcdef\n", "0123456789\x01" "abcdef"}) {
+  for (const char* bad : {"", "\n", "short\n", "0123456789 abcdef\n",
+                          "0123456789\x01"
+                          "abcdef"}) {
     try {
       token_of_file_text(bad, "/etc/mcemu/token");
       ADD_FAILURE() << "accepted: " << bad;
