@@ -41,6 +41,7 @@ Device::Device(Setup setup, Environment env)
       config_(setup_.config) {
   personality_ = &personality_of(preset_);
   settings_ = runtime_settings(config_);
+  start_settings_ = settings_;
   try {
     slcan_config_ = slcan::slcan_config_from_json(config_.value("slcan", nlohmann::json::object()));
     canopen_config_ = canopen::canopen_config_from_json(config_.value("canopen", nlohmann::json::object()));
@@ -218,6 +219,8 @@ void Device::add_part(std::unique_ptr<sim::Part> part) {
 std::optional<Refusal> Device::change_settings(const nlohmann::json& changes, const std::function<void()>& accepted) {
   RuntimeSettings next = settings_;
   if (auto error = apply_settings(next, changes)) return Refusal{Refusal::Kind::syntax, *error};
+  // docs/security.md: relaxing the script settings is for the command line and the config file
+  if (auto why = relaxation(start_settings_, next)) return Refusal{Refusal::Kind::forbidden, *why};
   settings_ = next;
   if (accepted) accepted();
   if (observers_.settings_changed) observers_.settings_changed(settings_);

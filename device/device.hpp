@@ -194,6 +194,7 @@ class Device {
   std::unique_ptr<FaultInjections> faults_;
   Scope scope_;
   RuntimeSettings settings_;
+  RuntimeSettings start_settings_;  // from the config file: what HTTP may not relax
   led::Leds leds_;
   Observers observers_;
   std::vector<std::unique_ptr<sim::Part>> parts_;   // the bundle's own parts

@@ -58,4 +58,17 @@ std::optional<std::string> apply_settings(RuntimeSettings& s, const json& change
   return std::nullopt;
 }
 
+std::optional<std::string> relaxation(const RuntimeSettings& start, const RuntimeSettings& next) {
+  if (!next.script_strict && start.script_strict) {
+    return "scriptStrict false lifts the MicroPython checks of scripts: it can only be set at start, in the "
+           "\"settings\" section of the config file (docs/security.md)";
+  }
+  const std::int64_t ceiling = std::max(RuntimeSettings::k_default_script_memory_mib, start.script_memory_mib);
+  if (next.script_memory_mib > ceiling) {
+    return "scriptMemoryMiB above " + std::to_string(ceiling) +
+           " can only be set at start, in the \"settings\" section of the config file (docs/security.md)";
+  }
+  return std::nullopt;
+}
+
 }  // namespace mcemu::device

@@ -2,14 +2,19 @@
 
 #include <spdlog/spdlog.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <boost/asio/post.hpp>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <map>
 
 #include "drive/od/objects.hpp"
 #include "protocols/refgo/interpreter.hpp"
 #include "scripting/engine_process.hpp"
+#include "scripting/net_open.hpp"
+#include "scripting/sandbox.hpp"
 #include "trace/trace.hpp"
 
 namespace mcemu::scripting {
@@ -34,6 +39,23 @@ std::uint64_t mono_ns() {
   return static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
           .count());
+}
+
+// The availability found by the first engine of the process for these settings: the probe runs
+// once, not once per drive of a fleet (every engine lives on the loop thread).
+struct ProbeOutcome {
+  bool available = false;
+  bool sandboxed = false;
+  bool unsafe = false;
+  std::string version;       // "CPython 3.11.2", or why the engine is unavailable
+  std::string sandbox_text;  // what the sandbox is, or why there is none
+};
+std::map<std::string, ProbeOutcome>& probe_cache() {
+  static std::map<std::string, ProbeOutcome> cache;
+  return cache;
+}
+std::string probe_key(const EngineSettings& s) {
+  return s.python + '\n' + s.bwrap + '\n' + (s.sandbox ? "s" : "-") + (s.unsafe_scripts ? "u" : "-");
 }
 
 std::string describe(const ipc::Value& v) {
@@ -98,23 +120,55 @@ ScriptEngine::ScriptEngine(asio::io_context& io, od::ObjectDictionary& od, core:
 }
 
 void ScriptEngine::start_probe() const {
-  if (!probed_ && !probe_) probe_ = std::make_unique<PythonProbe>(settings_.python);
+  if (probed_ || probe_cache().count(probe_key(settings_))) return;
+  if (!probe_) probe_ = std::make_unique<PythonProbe>(settings_.python);
+  if (settings_.sandbox && !sandbox_probe_)
+    sandbox_probe_ = std::make_unique<SandboxProbe>(settings_.bwrap, settings_.python);
 }
 
 void ScriptEngine::resolve_probe() const {
   if (probed_) return;
-  start_probe();
-  probed_ = true;
-  std::string why;
-  if (auto v = probe_->result(why)) {
-    available_ = true;
-    version_ = "CPython " + *v;
-    spdlog::info("script engine: {} ({})", version_, settings_.python);
-  } else {
-    version_ = why;
-    spdlog::warn("script engine unavailable: {}; scripts cannot run", why);
+  const std::string key = probe_key(settings_);
+  auto cached = probe_cache().find(key);
+  if (cached == probe_cache().end()) {
+    start_probe();
+    ProbeOutcome o;
+    std::string why;
+    if (auto v = probe_->result(why)) {
+      o.version = "CPython " + *v;
+      if (!settings_.sandbox) {
+        o.available = true;
+        spdlog::info("script engine: {} ({}), no sandbox", o.version, settings_.python);
+      } else if (const auto& verdict = sandbox_probe_->result(); verdict.ok) {
+        o.available = o.sandboxed = true;
+        o.sandbox_text = bwrap_version(settings_.bwrap) +
+                         ": no network, read-only /usr, private /tmp, own PID and IPC namespaces, seccomp, user " +
+                         (geteuid() == 0 ? "nobody (65534)" : "of mcemu");
+        spdlog::info("script engine: {} ({}), sandbox {}", o.version, settings_.python, o.sandbox_text);
+      } else if (settings_.unsafe_scripts) {
+        o.available = o.unsafe = true;
+        o.sandbox_text = sandbox::unsafe_sentence(verdict.reason);
+        spdlog::warn("script engine: {} ({}) — {}", o.version, settings_.python, o.sandbox_text);
+      } else {
+        o.sandbox_text = sandbox::unavailable_sentence(verdict.reason);
+        o.version = o.sandbox_text;
+        spdlog::warn("script engine unavailable: {}", o.sandbox_text);
+      }
+    } else {
+      o.version = why;
+      spdlog::warn("script engine unavailable: {}; scripts cannot run", why);
+    }
+    cached = probe_cache().emplace(key, std::move(o)).first;
   }
+  probed_ = true;
+  const ProbeOutcome& o = cached->second;
+  available_ = o.available;
+  sandboxed_ = o.sandboxed;
+  unsafe_ = o.unsafe;
+  version_ = o.version;
+  sandbox_text_ = o.sandbox_text;
   probe_.reset();
+  sandbox_probe_.reset();
 }
 
 bool ScriptEngine::available() const {
@@ -125,6 +179,21 @@ bool ScriptEngine::available() const {
 const std::string& ScriptEngine::engine_version() const {
   resolve_probe();
   return version_;
+}
+
+bool ScriptEngine::sandboxed() const {
+  resolve_probe();
+  return sandboxed_;
+}
+
+const std::string& ScriptEngine::sandbox_text() const {
+  resolve_probe();
+  return sandbox_text_;
+}
+
+bool ScriptEngine::unsafe() const {
+  resolve_probe();
+  return unsafe_;
 }
 
 ScriptEngine::~ScriptEngine() {
@@ -252,12 +321,17 @@ void ScriptEngine::launch() {
   const std::string id = source_.id();
   emit(starting_line(id));
   if (!available()) {
+    if (!sandbox_text_.empty()) emit(engine_note_line(sandbox_text_));  // why: no sandbox
     emit(unavailable_line(id));
     state_ = RunState::off;
     return;
   }
+  if (unsafe_) {
+    spdlog::warn("script engine: starting \"{}\" WITHOUT the sandbox (--unsafe-scripts)", id);
+    emit(engine_note_line(sandbox_text_));
+  }
   std::string error;
-  auto proc = EngineProcess::spawn(io_, {settings_.python, settings_.memory_mib}, error);
+  auto proc = EngineProcess::spawn(io_, {settings_.python, settings_.memory_mib, sandboxed_, settings_.bwrap}, error);
   if (!proc) {
     spdlog::error("script engine: cannot start {}: {}", settings_.python, error);
     emit(unavailable_line(id));
@@ -394,6 +468,9 @@ void ScriptEngine::handle(const std::shared_ptr<Run>& run, ipc::Message& m, bool
     case Kind::call:
       if (calls) handle_call(run, m.body);
       return;
+    case Kind::net:
+      if (calls) handle_net(run, m.body);
+      return;
     case Kind::compiled: {
       const auto v = ipc::decode_values(m.body);
       if (!v || v->size() != 2) return protocol_error(run, "bad compile report");
@@ -469,6 +546,46 @@ void ScriptEngine::handle_call(const std::shared_ptr<Run>& run, const std::strin
   if (!r) return;
   if (!text.empty()) trace_event(text + " -> " + (r->empty() ? "None" : describe((*r)[0])));
   if (run == run_) reply(run, *r);
+}
+
+// mcnet (scripting.md §7): the socket is made here, in mcemu's network namespace, and handed over.
+// A peer given by name is resolved in the background first (the loop never blocks on DNS); the
+// script waits for the reply as for any call.
+void ScriptEngine::handle_net(const std::shared_ptr<Run>& run, const std::string& body) {
+  auto request = ipc::decode_net(body);
+  if (!request) return protocol_error(run, "bad net request");
+  if (request->kind == ipc::NetRequest::Kind::server || request->host.empty() || numeric_host(request->host)) {
+    return answer_net(run, *request, request->host);
+  }
+  if (!resolver_) resolver_ = std::make_unique<asio::ip::tcp::resolver>(io_);
+  std::weak_ptr<bool> alive = alive_;
+  resolver_->async_resolve(
+      request->host, "",
+      [this, alive, run, r = *request](const boost::system::error_code& ec, asio::ip::tcp::resolver::results_type res) {
+        if (!alive.lock() || run != run_) return;
+        std::string peer;  // IPv4 first, as the drive's own stack
+        if (!ec) {
+          for (const auto& e : res) {
+            if (peer.empty() || e.endpoint().address().is_v4()) peer = e.endpoint().address().to_string();
+            if (e.endpoint().address().is_v4()) break;
+          }
+        }
+        // unresolved: a client fails and retries; a UDP peer keeps its name (its sends fail)
+        answer_net(run, r, peer.empty() && r.kind == ipc::NetRequest::Kind::udp ? r.host : peer);
+      });
+}
+
+void ScriptEngine::answer_net(const std::shared_ptr<Run>& run, const ipc::NetRequest& request,
+                              const std::string& peer) {
+  const NetOpened opened = open_net(request, settings_.bind_address, peer);
+  Values v{Value::integer(opened.error), Value::text(peer)};
+  if (opened.fd >= 0) {
+    const bool sent = run->proc->send_with_fd(ipc::encode(Kind::reply, ipc::encode_values(v)), opened.fd);
+    ::close(opened.fd);  // the script holds its own copy: the socket dies with the script
+    if (sent) return;
+    v[0] = Value::integer(ENOBUFS);
+  }
+  reply(run, v);
 }
 
 void ScriptEngine::reply(const std::shared_ptr<Run>& run, const Values& values) {

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <cstdint>
 #include <functional>
@@ -27,6 +28,7 @@
 #include "drive/od/dictionary.hpp"
 #include "scripting/core/calls.hpp"
 #include "scripting/core/console_output.hpp"
+#include "scripting/core/ipc.hpp"
 #include "scripting/core/lifecycle.hpp"
 #include "scripting/core/script_source.hpp"
 
@@ -41,6 +43,7 @@ namespace mcemu::scripting {
 
 class EngineProcess;
 class PythonProbe;
+class SandboxProbe;
 
 // Runtime settings (web.md §8.9) and the host side of the engine. strict and memory_mib apply from
 // the next start; trace_calls at once.
@@ -51,6 +54,12 @@ struct EngineSettings {
   bool trace_calls = false;                 // traceScriptCalls
   std::string bind_address = "127.0.0.1";   // the drive's --bind: mcnet sockets bind here
   bool interpolate_us = true;               // ticks_us between steps from the host clock (real clock only)
+  // The OS sandbox (docs/security.md): every run goes through bwrap with the seccomp filters. If
+  // the start-up probe finds that it cannot be set up, scripts do not start — unless unsafe_scripts
+  // (--unsafe-scripts) allows running them without it. `sandbox = false` is for tests only.
+  bool sandbox = true;
+  bool unsafe_scripts = false;
+  std::string bwrap = "/usr/bin/bwrap";  // "scripting.bwrap" of --config
 };
 
 struct EngineCallbacks {
@@ -82,6 +91,11 @@ class ScriptEngine {
   // PythonProbe
   bool available() const;
   const std::string& engine_version() const;  // "CPython 3.11.2" or the reason
+  // Whether runs are sandboxed, and in words: what the sandbox is ("bubblewrap 0.8.0, seccomp, …")
+  // when they are, else the one sentence why not (also when unavailable for another reason: "").
+  bool sandboxed() const;
+  const std::string& sandbox_text() const;
+  bool unsafe() const;  // runs without the sandbox because --unsafe-scripts allowed it
 
   // ---- the program (web.md §6.1, §8.7)
   // 1 … 65 536 bytes: stops a running script, the two upload lines, replaces the source (RAM).
@@ -147,6 +161,8 @@ class ScriptEngine {
   void pump(const std::shared_ptr<Run>& run);
   void handle(const std::shared_ptr<Run>& run, ipc::Message& m, bool calls);
   void handle_call(const std::shared_ptr<Run>& run, const std::string& body);
+  void handle_net(const std::shared_ptr<Run>& run, const std::string& body);
+  void answer_net(const std::shared_ptr<Run>& run, const ipc::NetRequest& request, const std::string& peer);
   void reply(const std::shared_ptr<Run>& run, const Values& values);
   void on_exit(const std::shared_ptr<Run>& run, int status);
   void protocol_error(const std::shared_ptr<Run>& run, const std::string& what);
@@ -169,9 +185,13 @@ class ScriptEngine {
   void start_probe() const;
   void resolve_probe() const;
   mutable std::unique_ptr<PythonProbe> probe_;  // from its start until its answer is read
+  mutable std::unique_ptr<SandboxProbe> sandbox_probe_;
   mutable bool probed_ = false;
   mutable bool available_ = false;
+  mutable bool sandboxed_ = false;
+  mutable bool unsafe_ = false;
   mutable std::string version_;
+  mutable std::string sandbox_text_;
   ScriptSource source_;
   RunState state_ = RunState::off;
   std::shared_ptr<Run> run_;
@@ -188,6 +208,7 @@ class ScriptEngine {
   boost::asio::steady_timer settle_timer_;
   std::shared_ptr<bool> alive_;
   boost::asio::steady_timer probe_timer_;
+  std::unique_ptr<boost::asio::ip::tcp::resolver> resolver_;  // mcnet peers given by name
 };
 
 }  // namespace mcemu::scripting

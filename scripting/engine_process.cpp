@@ -9,6 +9,7 @@
 #include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/syscall.h>
+#include <sys/uio.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,6 +21,7 @@
 #include <filesystem>
 
 #include "scripting/runner_embedded.hpp"
+#include "scripting/sandbox.hpp"
 
 extern char** environ;
 
@@ -42,41 +44,13 @@ void put_le(std::string& out, std::uint64_t v, int n) {
 
 int pidfd_open(pid_t pid) { return static_cast<int>(syscall(SYS_pidfd_open, pid, 0)); }
 
-// Everything the child does between fork and exec: async-signal-safe calls only.
-[[noreturn]] void child(pid_t parent, const char* python, char* const argv[], char* const envp[], int runner, int sock,
-                        int page, int devnull, const char* workdir, rlim_t memory) {
-  setpgid(0, 0);
-  prctl(PR_SET_PDEATHSIG, SIGKILL);
-  if (getppid() != parent) _exit(125);  // mcemu died before the death signal was armed
-  sigset_t none;
-  sigemptyset(&none);
-  sigprocmask(SIG_SETMASK, &none, nullptr);
-  struct sigaction dfl {};
-  dfl.sa_handler = SIG_DFL;
-  for (int s = 1; s < NSIG; ++s) sigaction(s, &dfl, nullptr);  // SIGPIPE was ignored by mcemu
-  const rlimit as{memory, memory};
-  setrlimit(RLIMIT_AS, &as);
-  const rlimit core{0, 0};
-  setrlimit(RLIMIT_CORE, &core);
-  const rlimit files{64, 64};
-  setrlimit(RLIMIT_NOFILE, &files);
-  setpriority(PRIO_PROCESS, 0, 10);
-  // Move the sources above the targets first, so that no dup2 overwrites another source.
-  const int r = fcntl(runner, F_DUPFD, 10);
-  const int s = fcntl(sock, F_DUPFD, 10);
-  const int p = fcntl(page, F_DUPFD, 10);
-  const int n = fcntl(devnull, F_DUPFD, 10);
-  if (r < 0 || s < 0 || p < 0 || n < 0) _exit(126);
-  if (dup2(n, 0) < 0 || dup2(n, 1) < 0 || dup2(n, 2) < 0 || dup2(r, k_fd_runner) < 0 || dup2(s, k_fd_socket) < 0 ||
-      dup2(p, k_fd_page) < 0) {
-    _exit(126);
+// bwrap reports the end of python3 as its own exit status, 128 + n for a signal n: back to a
+// wait(2) status of that signal (an os._exit(129…192) of a non-strict script reads as a signal).
+int unwrap_status(int status) {
+  if (WIFEXITED(status) && WEXITSTATUS(status) > 128 && WEXITSTATUS(status) < 128 + NSIG) {
+    return WEXITSTATUS(status) - 128;
   }
-  if (syscall(SYS_close_range, 6U, ~0U, 0U) != 0) {
-    for (int fd = 6; fd < 4096; ++fd) close(fd);
-  }
-  if (chdir(workdir) != 0) _exit(126);
-  execve(python, argv, envp);
-  _exit(127);
+  return status;
 }
 
 }  // namespace
@@ -91,6 +65,11 @@ const std::string& bootstrap_program() {
       " exec(compile(d[i:i+n],'<mcemu:'+k+'>','exec'),m.__dict__);i+=n\n"
       "del d\n"
       "sys.modules[k].main()\n";
+  return k_program;
+}
+
+const std::string& sandboxed_bootstrap_program() {
+  static const std::string k_program = exec_lock_program() + bootstrap_program();
   return k_program;
 }
 
@@ -110,6 +89,11 @@ const std::string& runner_container() {
 
 std::shared_ptr<EngineProcess> EngineProcess::spawn(asio::io_context& io, const SpawnOptions& options,
                                                     std::string& error) {
+  std::optional<SandboxPlan> plan;
+  if (options.sandbox) {
+    plan = plan_sandbox(options.bwrap, options.python, {"-I", "-S", "-u", "-c", sandboxed_bootstrap_program()}, error);
+    if (!plan) return nullptr;
+  }
   int sv[2] = {-1, -1};
   if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) {
     error = errno_text("socketpair");
@@ -118,15 +102,23 @@ std::shared_ptr<EngineProcess> EngineProcess::spawn(asio::io_context& io, const 
   auto page = SharedPage::create();
   const int runner = memfd_create("mcemu-runner", MFD_CLOEXEC);
   const int devnull = open("/dev/null", O_RDWR | O_CLOEXEC);
-  std::string workdir = (std::filesystem::temp_directory_path() / "mcemu-script-XXXXXX").string();
-  const bool dir_ok = mkdtemp(workdir.data()) != nullptr;
+  int filters[2] = {-1, -1};
+  std::string workdir;
+  bool dir_ok = true;
+  if (plan) {
+    filters[0] = memfd_with(plan->process_filter);
+    filters[1] = memfd_with(plan->exec_filter);
+  } else {
+    workdir = (std::filesystem::temp_directory_path() / "mcemu-script-XXXXXX").string();
+    dir_ok = mkdtemp(workdir.data()) != nullptr;
+  }
   const auto cleanup = [&] {
-    for (int fd : {sv[0], sv[1], runner, devnull}) {
+    for (int fd : {sv[0], sv[1], runner, devnull, filters[0], filters[1]}) {
       if (fd >= 0) close(fd);
     }
-    if (dir_ok) rmdir(workdir.c_str());
+    if (dir_ok && !workdir.empty()) rmdir(workdir.c_str());
   };
-  if (!page || runner < 0 || devnull < 0 || !dir_ok) {
+  if (!page || runner < 0 || devnull < 0 || !dir_ok || (plan && (filters[0] < 0 || filters[1] < 0))) {
     error = errno_text("engine set-up");
     cleanup();
     return nullptr;
@@ -142,34 +134,45 @@ std::shared_ptr<EngineProcess> EngineProcess::spawn(asio::io_context& io, const 
     done += static_cast<std::size_t>(n);
   }
 
-  // Everything the child needs is prepared before fork (no allocation after it).
-  std::string a0 = options.python, a1 = "-I", a2 = "-S", a3 = "-u", a4 = "-c", a5 = bootstrap_program();
-  char* argv[] = {a0.data(), a1.data(), a2.data(), a3.data(), a4.data(), a5.data(), nullptr};
-  std::string e0 = "PATH=/usr/bin:/bin", e1 = "LANG=C.UTF-8", e2 = "MALLOC_ARENA_MAX=1";
-  char* envp[] = {e0.data(), e1.data(), e2.data(), nullptr};
-  const rlim_t memory = static_cast<rlim_t>(std::max(32U, options.memory_mib)) * 1024 * 1024;
-  const pid_t parent = getpid();
-
-  const pid_t pid = fork();
+  LaunchSpec spec;
+  if (plan) {
+    spec.path = options.bwrap;
+    spec.argv = std::move(plan->argv);
+    spec.ids = plan->ids;
+    spec.ignore_usr1 = true;
+  } else {
+    spec.path = options.python;
+    spec.argv = {options.python, "-I", "-S", "-u", "-c", bootstrap_program()};
+    spec.workdir = workdir;
+  }
+  spec.envp = {"PATH=/usr/bin:/bin", "LANG=C.UTF-8", "MALLOC_ARENA_MAX=1"};
+  spec.fds = {{devnull, 0},          {devnull, 1},         {devnull, 2},
+              {runner, k_fd_runner}, {sv[1], k_fd_socket}, {page->fd(), k_fd_page}};
+  if (plan) spec.fds.insert(spec.fds.end(), {{filters[0], k_fd_process_filter}, {filters[1], k_fd_exec_filter}});
+  spec.memory = static_cast<rlim_t>(std::max(32U, options.memory_mib)) * 1024 * 1024;
+  const pid_t pid = launch(spec, error);
   if (pid < 0) {
-    error = errno_text("fork");
     cleanup();
     return nullptr;
   }
-  if (pid == 0) child(parent, a0.c_str(), argv, envp, runner, sv[1], page->fd(), devnull, workdir.c_str(), memory);
-
-  setpgid(pid, pid);  // also here, so that signals reach the group however the race goes
-  close(sv[1]);
-  close(runner);
-  close(devnull);
+  for (int fd : {sv[1], runner, devnull, filters[0], filters[1]}) {
+    if (fd >= 0) close(fd);
+  }
   page->close_fd();
   const int pidfd = pidfd_open(pid);
-  return std::shared_ptr<EngineProcess>(new EngineProcess(io, pid, pidfd, sv[0], std::move(page), std::move(workdir)));
+  return std::shared_ptr<EngineProcess>(
+      new EngineProcess(io, pid, pidfd, sv[0], std::move(page), std::move(workdir), plan.has_value()));
 }
 
 EngineProcess::EngineProcess(asio::io_context& io, pid_t pid, int pidfd, int sock, std::unique_ptr<SharedPage> page,
-                             std::string workdir)
-    : io_(io), pid_(pid), socket_(io), page_(std::move(page)), workdir_(std::move(workdir)), chunk_(k_chunk) {
+                             std::string workdir, bool sandboxed)
+    : io_(io),
+      pid_(pid),
+      socket_(io),
+      page_(std::move(page)),
+      workdir_(std::move(workdir)),
+      sandboxed_(sandboxed),
+      chunk_(k_chunk) {
   boost::system::error_code ec;
   socket_.assign(asio::local::stream_protocol(), sock, ec);
   socket_.non_blocking(true, ec);
@@ -233,6 +236,30 @@ void EngineProcess::send(std::string frame) {
   write_pending();
 }
 
+bool EngineProcess::send_with_fd(const std::string& frame, int fd) {
+  if (!socket_.is_open() || writing_ || !out_.empty()) return false;
+  iovec iov{const_cast<char*>(frame.data()), frame.size()};
+  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))] = {};
+  msghdr msg{};
+  msg.msg_iov = &iov;
+  msg.msg_iovlen = 1;
+  msg.msg_control = control;
+  msg.msg_controllen = sizeof control;
+  cmsghdr* c = CMSG_FIRSTHDR(&msg);
+  c->cmsg_level = SOL_SOCKET;
+  c->cmsg_type = SCM_RIGHTS;
+  c->cmsg_len = CMSG_LEN(sizeof(int));
+  std::memcpy(CMSG_DATA(c), &fd, sizeof(int));
+  const ssize_t n = ::sendmsg(socket_.native_handle(), &msg, MSG_DONTWAIT | MSG_NOSIGNAL);
+  if (n == static_cast<ssize_t>(frame.size())) return true;
+  if (n > 0) {  // the descriptor went with the first bytes; the rest follows as usual
+    out_.append(frame, static_cast<std::size_t>(n));
+    write_pending();
+    return true;
+  }
+  return false;
+}
+
 void EngineProcess::write_pending() {
   if (writing_ || out_.empty() || !socket_.is_open()) return;
   writing_ = true;
@@ -259,7 +286,8 @@ void EngineProcess::kill_group() { signal_group(SIGKILL); }
 void EngineProcess::stop_group() { signal_group(SIGSTOP); }
 void EngineProcess::continue_group() { signal_group(SIGCONT); }
 void EngineProcess::sample_line() {
-  if (!reaped_) ::kill(pid_, SIGUSR1);
+  // Sandboxed, pid_ is bwrap's (it ignores SIGUSR1, set before its exec); python3 is in the group.
+  if (!reaped_) ::kill(sandboxed_ ? -pid_ : pid_, SIGUSR1);
 }
 
 void EngineProcess::on_exit(std::function<void(int)> fn) {
@@ -306,7 +334,7 @@ void EngineProcess::reap() {
   }
   std::error_code fs_ec;
   std::filesystem::remove_all(workdir_, fs_ec);
-  exit_status_ = r == pid_ ? status : 0;
+  exit_status_ = r == pid_ ? (sandboxed_ ? unwrap_status(status) : status) : 0;
   if (exit_fn_) {
     auto f = std::move(exit_fn_);
     f(*exit_status_);

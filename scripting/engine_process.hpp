@@ -1,8 +1,11 @@
 // One script engine process (scripting.md §10.2): Debian's python3 started as `-I -S -u` with the
 // embedded runner, in its own process group, with RLIMIT_AS / RLIMIT_CORE 0 / RLIMIT_NOFILE 64,
-// nice +10, PR_SET_PDEATHSIG SIGKILL, stdin/stdout/stderr /dev/null, an empty temporary working
-// directory; fd 3 = the runner (memfd), fd 4 = its end of the socketpair, fd 5 = the shared page.
-// The loop's end of the socketpair is a non-blocking Asio peer; the exit is seen on a pidfd.
+// nice +10, PR_SET_PDEATHSIG SIGKILL, stdin/stdout/stderr /dev/null; fd 3 = the runner (memfd),
+// fd 4 = its end of the socketpair, fd 5 = the shared page. Sandboxed (the default, sandbox.hpp):
+// started through bwrap as nobody (when mcemu is root), fd 6/7 = the two seccomp programs, the
+// working directory the sandbox's private /tmp. Unsandboxed (--unsafe-scripts fallback): an empty
+// temporary working directory of mcemu's. The loop's end of the socketpair is a non-blocking Asio
+// peer; the exit is seen on a pidfd.
 //
 // Contract: created, used and destroyed on the event-loop thread, which is also the thread that
 // forks (the death signal follows the forking thread). Signals go to the whole process group
@@ -30,10 +33,14 @@ namespace mcemu::scripting {
 struct SpawnOptions {
   std::string python = "/usr/bin/python3";
   unsigned memory_mib = 256;  // RLIMIT_AS; values below 32 are taken as 32
+  bool sandbox = true;        // through bwrap with the seccomp filters (sandbox.hpp)
+  std::string bwrap = "/usr/bin/bwrap";
 };
 
-// The `-c` program that loads the runner modules from fd 3 and runs the last one's main().
+// The `-c` program that loads the runner modules from fd 3 and runs the last one's main(); the
+// sandboxed one first installs the stage-2 filter (exec_lock_program()).
 const std::string& bootstrap_program();
+const std::string& sandboxed_bootstrap_program();
 // The runner modules in the container format fd 3 holds: per module u16 name length, name,
 // u32 source length, source.
 const std::string& runner_container();
@@ -48,6 +55,7 @@ class EngineProcess : public std::enable_shared_from_this<EngineProcess> {
   EngineProcess& operator=(const EngineProcess&) = delete;
 
   pid_t pid() const { return pid_; }
+  bool sandboxed() const { return sandboxed_; }
   SharedPage& page() { return *page_; }
 
   // ---- the channel
@@ -60,13 +68,17 @@ class EngineProcess : public std::enable_shared_from_this<EngineProcess> {
   void read_available();
   // Sends a frame: at once if the socket takes it, else queued and written asynchronously.
   void send(std::string frame);
+  // Sends a frame with descriptor `fd` attached (SCM_RIGHTS; the process gets its own copy, the
+  // caller keeps and closes `fd`). Only when nothing else is queued and the socket takes it at once;
+  // false otherwise (nothing was sent).
+  bool send_with_fd(const std::string& frame, int fd);
   void close_channel();
 
   // ---- signals to the process group (no effect once reaped)
   void kill_group();
   void stop_group();
   void continue_group();
-  void sample_line();  // SIGUSR1 to the runner only
+  void sample_line();  // SIGUSR1 to the runner only (sandboxed: to the group; bwrap ignores it)
 
   // Called once with the wait status (waitid si_code/si_status folded into a wait(2)-style int).
   void on_exit(std::function<void(int wait_status)> fn);
@@ -76,7 +88,7 @@ class EngineProcess : public std::enable_shared_from_this<EngineProcess> {
 
  private:
   EngineProcess(boost::asio::io_context& io, pid_t pid, int pidfd, int sock, std::unique_ptr<SharedPage> page,
-                std::string workdir);
+                std::string workdir, bool sandboxed);
   void watch_exit();
   void reap();
   void write_pending();
@@ -87,7 +99,8 @@ class EngineProcess : public std::enable_shared_from_this<EngineProcess> {
   boost::asio::local::stream_protocol::socket socket_;
   std::optional<boost::asio::posix::stream_descriptor> pidfd_;
   std::unique_ptr<SharedPage> page_;
-  std::string workdir_;
+  std::string workdir_;  // "" when sandboxed (its /tmp is the sandbox's own)
+  bool sandboxed_ = false;
   std::string in_;
   std::vector<char> chunk_;
   std::string out_;

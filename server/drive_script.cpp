@@ -18,20 +18,22 @@ namespace {
 using scripting::RunState;
 using scripting::ScriptEngine;
 
-// The optional "scripting" section of --config: { "python": "/usr/bin/python3" } — the
-// interpreter the engine runs (scripting.md §10.2: Debian's python3, not one found on PATH).
-std::string python_of(const nlohmann::json& config) {
-  std::string python = scripting::EngineSettings{}.python;
+// The optional "scripting" section of --config: { "python": "/usr/bin/python3", "bwrap":
+// "/usr/bin/bwrap" } — the interpreter the engine runs (scripting.md §10.2: Debian's python3, not
+// one found on PATH) and the bubblewrap of its sandbox (docs/security.md).
+void scripting_section(const nlohmann::json& config, scripting::EngineSettings& es) {
   const auto it = config.find("scripting");
-  if (it == config.end()) return python;
+  if (it == config.end()) return;
   for (const auto& [key, value] : it->items()) {
-    if (key != "python") throw UsageError("config: unknown key \"scripting." + key + "\" (known: python)");
-    if (!value.is_string() || value.get<std::string>().empty()) {
-      throw UsageError("config: \"scripting.python\" must be the path of a python3 executable");
+    if (key != "python" && key != "bwrap") {
+      throw UsageError("config: unknown key \"scripting." + key + "\" (known: python, bwrap)");
     }
-    python = value.get<std::string>();
+    if (!value.is_string() || value.get<std::string>().empty()) {
+      throw UsageError("config: \"scripting." + key + "\" must be the path of " +
+                       (key == "python" ? "a python3 executable" : "the bwrap executable"));
+    }
+    (key == "python" ? es.python : es.bwrap) = value.get<std::string>();
   }
-  return python;
 }
 
 }  // namespace
@@ -49,6 +51,11 @@ class DriveUnit::ScriptWeb final : public web::api::ScriptControl {
     constexpr std::string_view prefix = "CPython ";
     if (v.rfind(prefix, 0) == 0) v.erase(0, prefix.size());
     return "python3 " + v;  // web.md §8.1
+  }
+  web::api::SandboxView sandbox() const override {
+    const ScriptEngine* e = eng();
+    if (!e || (e->sandbox_text().empty() && !e->sandboxed())) return {};  // no python3: nothing to say
+    return web::api::SandboxView{true, e->sandboxed(), e->unsafe(), e->sandbox_text()};
   }
   web::api::ScriptView view() const override {
     web::api::ScriptView v;
@@ -115,7 +122,8 @@ void DriveUnit::build_script() {
   cb.changed = [this] { wake(); };
   const auto& rs = device_->settings();
   scripting::EngineSettings es;
-  es.python = python_of(settings_.config);
+  scripting_section(settings_.config, es);
+  es.unsafe_scripts = settings_.unsafe_scripts;
   es.strict = rs.script_strict;
   es.memory_mib = static_cast<unsigned>(rs.script_memory_mib);
   es.trace_calls = rs.trace_script_calls;

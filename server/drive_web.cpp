@@ -102,6 +102,7 @@ void DriveUnit::build_web(const asio::ip::address& address) {
   };
   services.trace = &dev.trace();
   if (dev.personality().code_scripts) services.script = &script_control();
+  services.api_token = settings_.api_token;  // --api-token FILE (docs/security.md); "" = off
   router_ = std::make_unique<web::api::Router>(dev, std::move(services));
 
   web::net::HttpOptions http_options;

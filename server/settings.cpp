@@ -120,6 +120,9 @@ void set_option(Settings& s, const std::string& name, const std::string& value, 
   } else if (name == "max-clients") {
     const auto n = parse_clients(value, what);
     s.refgo_max_clients = s.slcan_max_clients = s.http_max_clients = s.faulhaber_max_clients = n;
+  } else if (name == "api-token") {
+    if (value.empty()) throw UsageError("empty value for " + what);
+    s.api_token_file = value;
   } else if (name == "clock") {
     try {
       s.clock = sim::parse_clock_mode(value);
@@ -132,9 +135,9 @@ void set_option(Settings& s, const std::string& name, const std::string& value, 
 }
 
 const std::set<std::string> k_value_flags = {
-    "model",  "bind",      "refgo-port", "slcan-port", "http-port",      "udp-port",
-    "ip",     "state-dir", "config",     "log-level",  "max-clients",    "idle-timeout",
-    "drives", "port-step", "fleet",      "clock",      "faulhaber-port", "faulhaber-pty"};
+    "model",     "bind",   "refgo-port",     "slcan-port",    "http-port",    "udp-port", "ip",
+    "state-dir", "config", "log-level",      "max-clients",   "idle-timeout", "drives",   "port-step",
+    "fleet",     "clock",  "faulhaber-port", "faulhaber-pty", "api-token"};
 
 std::string scalar_text(const json& v, const std::string& what) {
   if (v.is_string()) return v.get<std::string>();
@@ -162,6 +165,22 @@ json read_json_file(const std::string& path, const std::string& what) {
 }
 
 }  // namespace
+
+std::string token_of_file_text(const std::string& text, const std::string& path) {
+  std::string line = text.substr(0, text.find('\n'));
+  const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; };
+  while (!line.empty() && space(line.back())) line.pop_back();
+  std::size_t first = 0;
+  while (first < line.size() && space(line[first])) ++first;
+  line.erase(0, first);
+  if (line.size() < 16) {
+    throw UsageError("the --api-token file " + path + " must hold a token of at least 16 characters on its first line");
+  }
+  if (std::any_of(line.begin(), line.end(), [&](char c) { return space(c) || static_cast<unsigned char>(c) < 0x20; })) {
+    throw UsageError("the --api-token file " + path + ": the token must not contain white space or control characters");
+  }
+  return line;
+}
 
 std::array<std::uint8_t, 4> parse_ipv4(const std::string& text, const std::string& what) {
   std::array<std::uint8_t, 4> out{};
@@ -221,9 +240,13 @@ Settings parse_command_line(const std::vector<std::string>& args) {
       value = name.substr(eq + 1);
       name = name.substr(0, eq);
     }
-    if (name == "help" || name == "version" || name == "dump-od" || name == "dump-eds") {
+    if (name == "help" || name == "version" || name == "dump-od" || name == "dump-eds" || name == "unsafe-scripts") {
       if (value) throw UsageError("option --" + name + " takes no value");
-      (name == "help" ? s.help : name == "version" ? s.version : name == "dump-od" ? s.dump_od : s.dump_eds) = true;
+      (name == "help"             ? s.help
+       : name == "version"        ? s.version
+       : name == "dump-od"        ? s.dump_od
+       : name == "unsafe-scripts" ? s.unsafe_scripts
+                                  : s.dump_eds) = true;
       continue;
     }
     if (!k_value_flags.count(name)) throw UsageError("unknown option --" + name + " (see --help)");
@@ -238,6 +261,13 @@ Settings parse_command_line(const std::vector<std::string>& args) {
   if (s.config_file) {
     // Re-apply command-line values after the config so that they win.
     apply_config(s, read_json_file(*s.config_file, "config file"), given);
+  }
+  if (s.api_token_file) {
+    std::ifstream in(*s.api_token_file);
+    if (!in) throw UsageError("cannot read the --api-token file " + *s.api_token_file);
+    std::stringstream buf;
+    buf << in.rdbuf();
+    s.api_token = token_of_file_text(buf.str(), *s.api_token_file);
   }
   if (s.fleet_file) {
     s.fleet = read_json_file(*s.fleet_file, "fleet file");
@@ -282,6 +312,12 @@ Usage: mcemu [options]
                       TCP keepalive is always on)
   --clock MODE        real (default: 1 ms steps paced by the wall clock), scaled:X (drive time =
                       X x wall time, 0.1 <= X <= 1000) or manual (POST /api/v1/clock/advance)
+  --api-token FILE    mcemu's own emulator endpoints (settings, clock, power cycle, faults) then
+                      need "Authorization: Bearer <the file's first line>"; the drive's own pages
+                      and endpoints stay open as on the real drive (docs/security.md)
+  --unsafe-scripts    run MovingCap CODE scripts even where their sandbox (bwrap, seccomp) cannot
+                      be set up: they then run with mcemu's user rights and network access
+                      (command line only; docs/security.md)
   --dump-od           print the object dictionary of the model as JSON and exit
   --dump-eds          print the model's CANopen EDS (CiA 306) and exit, e.g. for python-canopen
   --version           print the version and exit

@@ -49,6 +49,13 @@ struct Settings {
   // servers (RefGo, SLCAN) and the HTTP server apply it.
   std::chrono::seconds idle_timeout{0};
   sim::ClockMode clock;  // --clock real | scaled:X | manual
+  // --unsafe-scripts: where the script sandbox cannot be set up, run scripts without it (loudly).
+  // Command line only: a config file cannot switch it on (docs/security.md).
+  bool unsafe_scripts = false;
+  // --api-token FILE (docs/security.md): the bearer token (the file's first line) that mcemu's own
+  // emulator endpoints then require; "" = no token.
+  std::optional<std::string> api_token_file;
+  std::string api_token;
   bool dump_od = false;
   bool dump_eds = false;
   bool help = false;
@@ -64,6 +71,10 @@ Settings parse_command_line(const std::vector<std::string>& args);
 void apply_config(Settings& s, const nlohmann::json& config, const std::vector<std::string>& flags_given);
 
 std::string help_text();
+
+// The token of an --api-token file: its first line without surrounding white space; at least 16
+// characters, no white space inside (throws UsageError naming the file otherwise).
+std::string token_of_file_text(const std::string& text, const std::string& path);
 
 // Dotted IPv4 → four octets (throws UsageError naming `what`).
 std::array<std::uint8_t, 4> parse_ipv4(const std::string& text, const std::string& what);

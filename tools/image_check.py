@@ -5,8 +5,10 @@ Usage: image_check.py ROOTFS INSPECT.json
 
 ROOTFS is the mounted file system of a container created from the image (`podman mount`), INSPECT
 the image's `podman image inspect` output. The image's ENTRYPOINT + CMD run as its USER, in its
-WORKDIR, with its ENV, chrooted into ROOTFS — what a container runtime would start, without one
-(`./tools/dev image`: these machines cannot run containers). Run it in a fresh network namespace
+WORKDIR, with its ENV, in a mount namespace whose root is ROOTFS (pivot_root) with /proc mounted —
+what a container runtime would start, without one (`./tools/dev image`: these machines cannot run
+containers). Not a chroot: the kernel refuses user namespaces to a chrooted process, and the
+MovingCap CODE sandbox (bwrap, docs/security.md) needs one. Run it in a fresh network namespace
 with `lo` up and net.ipv4.ip_unprivileged_port_start = 0 (as Docker sets it in a container), so
 the drive's default ports, 80 included, are free and bindable by the non-root user.
 
@@ -15,9 +17,11 @@ deploy/k8s/statefulset.yaml runs it (readOnlyRootFilesystem, the state on a volu
 
 Checks: the four listeners on 0.0.0.0 at the drive's default ports, which are the image's EXPOSE
 list; one RefGo answer; one HTTP answer; the UDP console; Store Permanently writes the state file
-into the image's state volume as the image's user; SIGTERM ends it with status 0. Every wait is
+into the image's state volume as the image's user; a script runs, in the sandbox; SIGTERM ends it
+with status 0. Every wait is
 bounded and polls; exit status 0 = all checks passed.
 """
+import ctypes
 import errno
 import json
 import os
@@ -48,6 +52,28 @@ def wait_for(predicate, timeout, what):
             raise TimeoutError(what)
         time.sleep(0.02)
     return value
+
+
+# pivot_root(2) has no libc wrapper; its number per architecture
+SYS_PIVOT_ROOT = {"x86_64": 155, "aarch64": 41}
+CLONE_NEWNS, MS_REC, MS_PRIVATE, MNT_DETACH = 0x20000, 0x4000, 1 << 18, 2
+
+
+def enter_root(rootfs):
+    """In the child, before exec: its own mount namespace with ROOTFS as / and a fresh /proc."""
+    libc = ctypes.CDLL(None, use_errno=True)
+
+    def check(rc, what):
+        if rc != 0:
+            raise OSError(ctypes.get_errno(), what)
+
+    check(libc.unshare(CLONE_NEWNS), "unshare")
+    check(libc.mount(None, b"/", None, MS_REC | MS_PRIVATE, None), "mount --make-rprivate /")
+    check(libc.mount(b"proc", os.path.join(rootfs, "proc").encode(), b"proc", 0, None), "mount proc")
+    os.chdir(rootfs)
+    check(libc.syscall(SYS_PIVOT_ROOT[os.uname().machine], b".", b"."), "pivot_root")
+    check(libc.umount2(b".", MNT_DETACH), "umount the old root")
+    os.chdir("/")
 
 
 def user_ids(rootfs, user):
@@ -100,11 +126,11 @@ def main():
     except OSError as e:
         if e.errno != errno.EROFS:
             raise
-    print(f"image check: {' '.join(argv)} as {user} ({uid}:{gid}) in {workdir}, chroot {rootfs} "
+    print(f"image check: {' '.join(argv)} as {user} ({uid}:{gid}) in {workdir}, root {rootfs} "
           f"(read-only, writable volumes {volumes})")
 
     def enter():
-        os.chroot(rootfs)
+        enter_root(rootfs)
         os.chdir(workdir)
         os.setgroups([])
         os.setgid(gid)
@@ -177,6 +203,10 @@ def main():
             data = b""
             while b"hello from the image\r\n" not in data:
                 data += u.recv(4096)
+        with urllib.request.urlopen("http://127.0.0.1:80/api/v1/info", timeout=5) as resp:
+            sandbox = json.load(resp)["scripting"].get("sandbox", {})
+        if not sandbox.get("active"):
+            fail(f"the script ran without its sandbox: {sandbox}", log)
 
         req = urllib.request.Request("http://127.0.0.1:80/api/v1/store", data=b"{}", method="POST",
                                      headers={"Content-Type": "application/json"})
@@ -200,7 +230,7 @@ def main():
     if rc != 0:
         fail(f"mcemu did not stop cleanly on SIGTERM: {rc}", log)
     print("image check passed: refgo 10001, slcan 15001, http 80, udp 14999 on 0.0.0.0; TP, /api/v1/info, "
-          f"UDP boot log, Store as uid {uid}, clean SIGTERM")
+          f"UDP boot log, a script in the sandbox, Store as uid {uid}, clean SIGTERM")
 
 
 if __name__ == "__main__":

@@ -46,4 +46,6 @@ std::string failure_exit_line(int status, std::string_view id) {
   return code_line("engine failure (exit status " + std::to_string(status) + ")", id);
 }
 
+std::string engine_note_line(std::string_view text) { return "code: " + std::string(text) + "\n\r"; }
+
 }  // namespace mcemu::scripting

@@ -37,5 +37,8 @@ std::string execute_line(std::string_view id);
 std::string unavailable_line(std::string_view id);
 std::string failure_signal_line(int signal, std::string_view id);
 std::string failure_exit_line(int status, std::string_view id);
+// "code: <text>\n\r": mcemu's own word about the engine (no sandbox, --unsafe-scripts), before the
+// drive's line it explains; `text` is one sentence without line ends.
+std::string engine_note_line(std::string_view text);
 
 }  // namespace mcemu::scripting

@@ -25,6 +25,7 @@ bool known_kind(char c) {
     case Kind::end:
     case Kind::fatal:
     case Kind::log:
+    case Kind::net:
     case Kind::start:
     case Kind::reply:
     case Kind::wake: return true;
@@ -126,6 +127,35 @@ std::optional<Call> decode_call(std::string_view body) {
   auto values = decode_values(body.substr(2));
   if (!values) return std::nullopt;
   return Call{static_cast<std::uint16_t>(get_le(body, 0, 2)), std::move(*values)};
+}
+
+namespace {
+
+constexpr std::string_view k_net_kinds[] = {"server", "client", "udp"};
+
+}  // namespace
+
+std::string encode_net(const NetRequest& request) {
+  const Value values[] = {Value::text(std::string(k_net_kinds[static_cast<std::size_t>(request.kind)])),
+                          Value::text(request.host), Value::integer(request.port)};
+  return encode_values(values);
+}
+
+std::optional<NetRequest> decode_net(std::string_view body) {
+  const auto v = decode_values(body);
+  if (!v || v->size() != 3 || (*v)[0].tag != Value::Tag::text || (*v)[1].tag != Value::Tag::text ||
+      (*v)[2].tag != Value::Tag::integer || (*v)[2].i < 1 || (*v)[2].i > 65535) {
+    return std::nullopt;
+  }
+  NetRequest r;
+  std::size_t k = 0;
+  while (k < std::size(k_net_kinds) && k_net_kinds[k] != (*v)[0].s) ++k;
+  if (k == std::size(k_net_kinds)) return std::nullopt;
+  r.kind = static_cast<NetRequest::Kind>(k);
+  r.host = (*v)[1].s;
+  r.port = static_cast<std::uint16_t>((*v)[2].i);
+  if (r.kind == NetRequest::Kind::client && r.host.empty()) return std::nullopt;
+  return r;
 }
 
 }  // namespace mcemu::scripting::ipc

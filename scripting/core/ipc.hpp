@@ -9,8 +9,11 @@
 //
 // Kinds, runner → loop:  'H' hello (body: engine version text), 'K' compiled (values: ok, line),
 //   'C' call (u16 LE function id, values), 'O' output (raw bytes), 'Z' sleep (values: duration µs),
-//   'X' cancel the running sleep, 'E' end (values: how, line), 'F' fatal runner error (text), 'L' a log line (text).
-// Kinds, loop → runner:  'S' start (values, see engine), 'R' reply (values), 'W' wake.
+//   'X' cancel the running sleep, 'E' end (values: how, line), 'F' fatal runner error (text), 'L' a log line (text),
+//   'N' open a socket for mcnet (values: kind, host, port — NetRequest).
+// Kinds, loop → runner:  'S' start (values, see engine), 'R' reply (values), 'W' wake. The reply to
+//   'N' is 'R' (values: errno, peer address) with the socket attached as SCM_RIGHTS when errno is 0
+//   or EINPROGRESS (the sandboxed runner cannot make sockets itself).
 //
 // Pure: no I/O; decoding never throws and never reads past the input.
 #pragma once
@@ -38,6 +41,7 @@ enum class Kind : char {
   end = 'E',
   fatal = 'F',
   log = 'L',
+  net = 'N',
   start = 'S',
   reply = 'R',
   wake = 'W',
@@ -84,5 +88,18 @@ struct Call {
 };
 std::string encode_call(const Call& call);
 std::optional<Call> decode_call(std::string_view body);
+
+// 'N' body: the socket an mcnet object needs (scripting.md §7.2). host: the peer of a client or of
+// a UDP peer ("" otherwise); the local address is always the drive's --bind, never the script's.
+struct NetRequest {
+  enum class Kind : std::uint8_t { server, client, udp };
+  Kind kind = Kind::server;
+  std::string host;
+  std::uint16_t port = 0;
+  bool operator==(const NetRequest&) const = default;
+};
+std::string encode_net(const NetRequest& request);
+// nullopt for anything but ("server" | "client" | "udp", text, 1 … 65535); a client needs a host.
+std::optional<NetRequest> decode_net(std::string_view body);
 
 }  // namespace mcemu::scripting::ipc

@@ -2,7 +2,10 @@
 # page (scripting.md §10.2). The message layout is scripting/core/ipc.hpp's:
 #   frame := u32 LE payload length, payload;  payload := kind byte, body
 #   values := u16 LE count, then per value 'N' | 'I' i64 | 'B' u32 len bytes | 'S' u32 len UTF-8
-# Every call is synchronous: one request, then exactly one 'R' reply (or 'W' for a sleep).
+# Every call is synchronous: one request, then exactly one 'R' reply (or 'W' for a sleep). The one
+# exception: during a sleep, mcnet may ask for a socket ('N', net_open) — its 'R' reply is told
+# apart from the sleep's 'W', which is kept for the sleep. mcemu makes the socket (the sandboxed
+# runner may not) and attaches it to that reply (SCM_RIGHTS).
 import mmap
 import os
 import select
@@ -26,6 +29,7 @@ _Q = struct.Struct('<q')
 _U32 = struct.Struct('<I')
 _U16 = struct.Struct('<H')
 _REPLY_NONE = b'\x01\x00N'
+_FDS_SPACE = socket.CMSG_SPACE(4 * 4)
 
 TICKS_PERIOD = 1 << 30
 
@@ -81,6 +85,8 @@ class Channel:
         self.line_seq = 0
         self._last_us = 0
         self._call_structs = {}
+        self.sleeping = False  # inside sleep_us: mcnet may open sockets while it waits
+        self._pending = []  # frames read by net_open that belong to the sleep
 
     # ---- sending
     def send(self, kind, body=b''):
@@ -99,6 +105,8 @@ class Channel:
     def recv_message(self, wakeup=None):
         """The next message as (kind, body). With `wakeup` (a predicate), returns (0, b'') as soon
         as it holds while waiting (mcnet readline: a frame arrived during its timeout)."""
+        if self._pending:
+            return self._pending.pop(0)
         buf = self.buf
         while True:
             if len(buf) >= 4:
@@ -110,13 +118,18 @@ class Channel:
                     return kind, body
             svc = self.service
             if svc is not None and svc.active():
-                # Serve the script's own sockets while the loop has not answered yet.
+                # Serve the script's own sockets while the loop has not answered yet; a client
+                # reconnects only during a sleep (a call's reply must be the next 'R').
                 while True:
                     if wakeup is not None and wakeup():
                         return 0, b''
+                    if self._pending:
+                        return self._pending.pop(0)
                     rd, wr = svc.fds()
-                    r, w, _ = select.select([self.sock] + rd, wr, [], svc.timeout())
-                    svc.poll(r, w)
+                    r, w, _ = select.select([self.sock] + rd, wr, [], svc.timeout(self.sleeping))
+                    svc.poll(r, w, self.sleeping)
+                    if self._pending:
+                        return self._pending.pop(0)
                     if self.sock in r:
                         break
             data = self.sock.recv(65536)
@@ -152,21 +165,64 @@ class Channel:
             self.send(b'C', _U16.pack(function) + encode_values(args))
         return self.reply()
 
+    def net_open(self, kind, host, port):
+        """A socket for mcnet, made by mcemu: (errno, socket or None, peer address text). errno 0
+        or EINPROGRESS (a client still connecting) come with the socket."""
+        self.send(b'N', encode_values([kind, host or '', int(port)]))
+        fds = []
+        buf = self.buf
+        try:
+            while True:
+                if len(buf) >= 4:
+                    n = _LEN.unpack_from(buf, 0)[0]
+                    if len(buf) >= 4 + n:
+                        kind_b, body = buf[4], bytes(buf[5:4 + n])
+                        del buf[:4 + n]
+                        if kind_b == 82:  # R: ours
+                            break
+                        self._pending.append((kind_b, body))  # the sleep's 'W'
+                        continue
+                data, anc, _, _ = self.sock.recvmsg(65536, _FDS_SPACE, socket.MSG_CMSG_CLOEXEC)
+                for level, ctype, cdata in anc:
+                    if level == socket.SOL_SOCKET and ctype == socket.SCM_RIGHTS:
+                        usable = len(cdata) - len(cdata) % 4
+                        fds.extend(struct.unpack('<%di' % (usable // 4), cdata[:usable]))
+                if not data:
+                    raise Closed()
+                buf += data
+        except BaseException:
+            for fd in fds:
+                os.close(fd)
+            raise
+        values = decode_values(body)
+        err, peer = values[0], values[1]
+        sock = None
+        if fds:
+            sock = socket.socket(fileno=fds[0])
+            sock.setblocking(False)
+            for fd in fds[1:]:
+                os.close(fd)
+        return err, sock, peer
+
     def sleep_us(self, us, wakeup=None):
         """Sleeps `us` µs of drive time (rounded up to whole steps by the loop). With `wakeup`, the
         sleep is cancelled as soon as the predicate holds (the loop then wakes it at once)."""
         if us <= 0:
             return
         self.send(b'Z', encode_values([int(us)]))
-        while True:
-            kind, body = self.recv_message(wakeup)
-            if kind == 87:  # W
-                return
-            if kind == 0:
-                wakeup = None
-                self.send(b'X')
-                continue
-            raise Closed()
+        self.sleeping = True
+        try:
+            while True:
+                kind, body = self.recv_message(wakeup)
+                if kind == 87:  # W
+                    return
+                if kind == 0:
+                    wakeup = None
+                    self.send(b'X')
+                    continue
+                raise Closed()
+        finally:
+            self.sleeping = False
 
     # ---- drive time from the shared page
     def _read_time(self):

@@ -1,8 +1,11 @@
-# _mcemu_mcnet: the script's own TCP/UDP sockets (scripting.md §7), opened by the script process
-# itself so that the kernel closes them when it is killed. The single-threaded runner serves them
-# (accept, connection retries, pending writes, receive buffers) whenever the script calls a module
-# function or waits: Service is the hook the channel calls for that.
+# _mcemu_mcnet: the script's own TCP/UDP sockets (scripting.md §7). mcemu makes each socket in its
+# own network namespace (bound to the drive's address, or connecting) and hands it over with the
+# reply to an 'N' request: the sandboxed script process has no network and may not create sockets.
+# The process holds the only copy, so the kernel closes them when it is killed. The single-threaded
+# runner serves them (accept, connection retries, pending writes, receive buffers) whenever the
+# script calls a module function or waits: Service is the hook the channel calls for that.
 import errno
+import os
 import select
 import socket
 import time
@@ -70,15 +73,15 @@ class Service:
             o._fds(rd, wr)
         return rd, wr
 
-    def timeout(self):
-        due = [o._retry_at for o in self.objects if o._retry_at is not None]
+    def timeout(self, reconnect=True):
+        due = [o._retry_at for o in self.objects if o._retry_at is not None] if reconnect else []
         if not due:
             return None
         return max(0.0, min(due) - time.monotonic())
 
-    def poll(self, readable, writable):
+    def poll(self, readable, writable, reconnect=True):
         for o in list(self.objects):
-            o._serve(readable, writable)
+            o._serve(readable, writable, reconnect)
 
     def poll_now(self):
         rd, wr = self.fds()
@@ -87,6 +90,14 @@ class Service:
         except (OSError, ValueError):
             r, w = [], []
         self.poll(r, w)
+
+
+def _opened(answer):
+    """(socket, peer) of a net_open answer; OSError(errno) when mcemu could not make it."""
+    err, sock, peer = answer
+    if sock is None:
+        raise OSError(err, os.strerror(err))
+    return sock, peer
 
 
 class LineMode:
@@ -100,7 +111,8 @@ class LineMode:
 
 
 def make_class(service, channel, bind_address):
-    """The McNet class of the script's `mcnet` module."""
+    """The McNet class of the script's `mcnet` module. (bind_address: the drive's --bind, where
+    mcemu binds the sockets; only for the reader, the runner never binds.)"""
 
     class McNet:
         def __init__(self, *args, **kw):
@@ -136,19 +148,10 @@ def make_class(service, channel, bind_address):
             self._connected, self._last_sender, self._retry_at = False, None, None
             try:
                 if kind == _KIND_SERVER:
-                    s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-                    s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-                    s.setblocking(False)
-                    s.bind((bind_address, port))
-                    s.listen(4)
-                    self._listen = s
+                    self._listen = _opened(channel.net_open('server', '', port))[0]
                 elif kind == _KIND_UDP:
-                    s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-                    s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-                    s.setblocking(False)
-                    s.bind((bind_address, port))
-                    self._sock = s
-                    self._peer = (host, port) if host else None
+                    self._sock, peer = _opened(channel.net_open('udp', host, port))
+                    self._peer = (peer or host, port) if host else None
                 else:
                     self._peer = (host, port)
                     self._connect()
@@ -163,18 +166,15 @@ def make_class(service, channel, bind_address):
             return 0
 
         def _connect(self):
-            s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-            s.setblocking(False)
-            self._sock = s
             self._retry_at = None
             try:
-                err = s.connect_ex(self._peer)
-            except OSError as e:  # unresolvable host name: keep retrying
-                err = e.errno or errno.EIO
-            if err == 0:
-                self._connected = True
-            elif err not in (errno.EINPROGRESS, errno.EAGAIN):
+                err, self._sock, _ = channel.net_open('client', self._peer[0], self._peer[1])
+            except OSError as e:
+                err, self._sock = e.errno or errno.EIO, None
+            if self._sock is None:  # refused, unresolvable host name…: keep retrying
                 self._drop_client()
+            elif err == 0:
+                self._connected = True
 
         def _drop_client(self):
             if self._sock is not None:
@@ -234,7 +234,7 @@ def make_class(service, channel, bind_address):
                     if self._tx:
                         wr.append(self._sock)
 
-        def _serve(self, readable, writable):
+        def _serve(self, readable, writable, reconnect=True):
             if self._kind == _KIND_SERVER:
                 if self._sock is None and self._listen is not None:
                     try:
@@ -247,7 +247,7 @@ def make_class(service, channel, bind_address):
                         pass
             elif self._kind == _KIND_CLIENT:
                 if self._sock is None:
-                    if self._retry_at is not None and time.monotonic() >= self._retry_at:
+                    if reconnect and self._retry_at is not None and time.monotonic() >= self._retry_at:
                         self._connect()
                     return
                 if not self._connected:

@@ -255,6 +255,42 @@ def multipart_seeds():
           b"\r\n\x00\xff\r\n------WebKitFormBoundaryAbC--\r\nepilogue")
 
 
+def ipc_frame(kind, body=b""):
+    return (len(body) + 1).to_bytes(4, "little") + kind + body
+
+
+def ipc_values(*values):
+    """scripting/core/ipc.hpp values: None, int, bytes ('B'), str ('S')."""
+    out = len(values).to_bytes(2, "little")
+    for v in values:
+        if v is None:
+            out += b"N"
+        elif isinstance(v, int):
+            out += b"I" + (v & (2**64 - 1)).to_bytes(8, "little")
+        else:
+            raw = v.encode() if isinstance(v, str) else v
+            out += (b"S" if isinstance(v, str) else b"B") + len(raw).to_bytes(4, "little") + raw
+    return out
+
+
+def script_ipc_seeds():
+    """What a runner sends (hello, calls, output, sleeps, a socket request, the end) and what a
+    script that writes on the socket itself could: a bad length, an unknown kind, half a frame."""
+    run = (ipc_frame(b"H", b"3.11.2") + ipc_frame(b"K", ipc_values(1, 0)) +
+           ipc_frame(b"C", (4).to_bytes(2, "little") + ipc_values()) +
+           ipc_frame(b"C", (9).to_bytes(2, "little") + ipc_values(0x6041, 0)) +
+           ipc_frame(b"O", b"hello\n") + ipc_frame(b"Z", ipc_values(1000000)) + ipc_frame(b"X") +
+           ipc_frame(b"N", ipc_values("client", "127.0.0.1", 502)) + ipc_frame(b"N", ipc_values("server", "", 5000)) +
+           ipc_frame(b"L", b"mcnet: cannot bind") + ipc_frame(b"E", ipc_values(2, 3)))
+    write("script_ipc", "runner_session", b"\x07" + run)
+    write("script_ipc", "values_all_tags",
+          b"\x01" + ipc_frame(b"C", b"\x01\x00" + ipc_values(None, -1, b"\x00\xff", "t\u00ebxt")))
+    write("script_ipc", "net_bad_kind", b"\x03" + ipc_frame(b"N", ipc_values("raw", "", 1)))
+    write("script_ipc", "bad_length", b"\x02" + b"\x00\x00\x20\x00O")
+    write("script_ipc", "unknown_kind", b"\x05" + ipc_frame(b"?", b"x"))
+    write("script_ipc", "half_frame", b"\x02" + ipc_frame(b"O", b"abcdef")[:7])
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -268,6 +304,7 @@ def main():
     http_seeds()
     ws_seeds()
     multipart_seeds()
+    script_ipc_seeds()
 
 
 if __name__ == "__main__":

@@ -28,6 +28,14 @@ def wait_state(m, state, timeout=10.0):
     return wait_for(lambda: script_view(m)["state"] == state, timeout=timeout, what="script state " + state)
 
 
+def non_strict_config():
+    """A config file whose "settings" start scriptStrict false: only then may PUT /api/v1/settings
+    switch it off (docs/security.md). The caller removes the file."""
+    with tempfile.NamedTemporaryFile("w", suffix=".json", prefix="scr-", delete=False) as f:
+        json.dump({"settings": {"scriptStrict": False}}, f)
+    return f.name
+
+
 def put_script(m, text):
     status, body = m.http("PUT", "/api/v1/script", text if isinstance(text, bytes) else text.encode(),
                           content_type="text/x-python")
@@ -149,14 +157,18 @@ class Output(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        cls.m = Mcemu()
+        # docs/security.md: scriptStrict false over HTTP only where the config file allowed it at start
+        cls.config = non_strict_config()
+        cls.m = Mcemu("--config", cls.config)
 
     @classmethod
     def tearDownClass(cls):
         cls.m.__exit__(None, None, None)
+        os.unlink(cls.config)
 
     def setUp(self):
         self.udp = UdpConsole(self.m.ports["udp"])
+        self.m.http("PUT", "/api/v1/settings", {"scriptStrict": True})  # each test starts strict
 
     def tearDown(self):
         self.m.http("POST", "/api/v1/script/stop", {})

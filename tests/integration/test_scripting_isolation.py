@@ -6,6 +6,7 @@ measured by bench/ (design.md: tests never assert on wall-clock speed).
 """
 import json
 import os
+import tempfile
 import time
 import unittest
 
@@ -36,14 +37,20 @@ def children(pid):
 class Isolation(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.m = Mcemu()
+        # docs/security.md: scriptStrict false over HTTP only where the config file allowed it at start
+        with tempfile.NamedTemporaryFile("w", suffix=".json", prefix="iso-", delete=False) as f:
+            json.dump({"settings": {"scriptStrict": False}}, f)
+        cls.config = f.name
+        cls.m = Mcemu("--config", cls.config)
         cls.pid = cls.m.proc.pid
 
     @classmethod
     def tearDownClass(cls):
         cls.m.__exit__(None, None, None)
+        os.unlink(cls.config)
 
     def setUp(self):
+        self.m.http("PUT", "/api/v1/settings", {"scriptStrict": True})  # each test starts strict
         self.udp = UdpConsole(self.m.ports["udp"])
         self.rg = RefGo(self.m.ports["refgo"])
         self.ws = WebSocket(self.m.ports["http"])

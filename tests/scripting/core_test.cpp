@@ -69,6 +69,24 @@ TEST(IpcCodec, ValuesRoundTripAndRejectTruncation) {
   EXPECT_FALSE(ipc::decode_values(std::string("\x01\x00Q", 3)));
 }
 
+TEST(IpcCodec, NetRequestsRoundTripAndBadOnesAreRefused) {
+  using K = ipc::NetRequest::Kind;
+  for (const ipc::NetRequest& r : {ipc::NetRequest{K::server, "", 5000}, ipc::NetRequest{K::client, "plc.local", 502},
+                                   ipc::NetRequest{K::udp, "10.0.0.1", 65535}, ipc::NetRequest{K::udp, "", 1}}) {
+    EXPECT_EQ(ipc::decode_net(ipc::encode_net(r)), r);
+  }
+  const auto values = [](std::vector<Value> v) { return ipc::encode_values(v); };
+  EXPECT_FALSE(ipc::decode_net(values({Value::text("raw"), Value::text(""), Value::integer(1)})));
+  EXPECT_FALSE(ipc::decode_net(values({Value::text("server"), Value::text(""), Value::integer(0)})));
+  EXPECT_FALSE(ipc::decode_net(values({Value::text("server"), Value::text(""), Value::integer(65536)})));
+  EXPECT_FALSE(ipc::decode_net(values({Value::text("client"), Value::text(""), Value::integer(80)}))) << "no host";
+  EXPECT_FALSE(ipc::decode_net(values({Value::text("server"), Value::none(), Value::integer(80)})));
+  EXPECT_FALSE(ipc::decode_net(values({Value::text("server"), Value::text("")})));
+  const std::string ok = ipc::encode_net({K::client, "h", 1});
+  for (std::size_t n = 0; n < ok.size(); ++n) EXPECT_FALSE(ipc::decode_net(ok.substr(0, n))) << n;
+  EXPECT_FALSE(ipc::decode(std::string("\x01\x00\x00\x00N", 5)).error) << "'N' is a known kind";
+}
+
 // ---- script source (scripting.md §2)
 
 TEST(ScriptSource, PlaceholderMatchesTheRealDrive) {
@@ -158,6 +176,7 @@ TEST(ConsoleOutput, CodeLines) {
   EXPECT_EQ(unavailable_line("i"), "code: engine unavailable, script id: i\n\r");
   EXPECT_EQ(failure_signal_line(11, "i"), "code: engine failure (signal 11), script id: i\n\r");
   EXPECT_EQ(failure_exit_line(3, "i"), "code: engine failure (exit status 3), script id: i\n\r");
+  EXPECT_EQ(engine_note_line("no sandbox"), "code: no sandbox\n\r");
 }
 
 // ---- life cycle (scripting.md §3.2): every row, in every state

@@ -258,5 +258,56 @@ class McNetRules(unittest.TestCase):
         self.assertEqual(bytes(o._rx), b'')
 
 
+class NetOpen(unittest.TestCase):
+    """Channel.net_open: mcemu's reply carries the socket (SCM_RIGHTS); a sleep's 'W' that arrives
+    first is kept for the sleep."""
+
+    def setUp(self):
+        import mmap
+        self.runner_end, self.loop_end = socket.socketpair()
+        self.channel = ipc.Channel(sock=self.runner_end, page=mmap.mmap(-1, ipc.PAGE_SIZE))
+
+    def tearDown(self):
+        self.runner_end.close()
+        self.loop_end.close()
+
+    def reply(self, values, fd=None):
+        body = b'R' + ipc.encode_values(values)
+        frame = struct.pack('<I', len(body)) + body
+        if fd is None:
+            self.loop_end.sendall(frame)
+        else:
+            socket.send_fds(self.loop_end, [frame[:3], frame[3:]], [fd])
+
+    def request(self):
+        head = self.loop_end.recv(4)
+        body = self.loop_end.recv(struct.unpack('<I', head)[0])
+        self.assertEqual(body[:1], b'N')
+        return ipc.decode_values(body[1:])
+
+    def test_the_socket_arrives_with_the_reply(self):
+        a, b = socket.socketpair()
+        wake = struct.pack('<I', 1) + b'W'
+        self.loop_end.sendall(wake)  # a sleep's wake that came first
+        self.reply([0, '10.0.0.7'], fd=a.fileno())
+        err, sock, peer = self.channel.net_open('udp', 'plc', 5000)
+        self.assertEqual(self.request(), ['udp', 'plc', 5000])
+        self.assertEqual((err, peer), (0, '10.0.0.7'))
+        a.close()  # the runner holds its own copy
+        sock.sendall(b'x')
+        self.assertEqual(b.recv(1), b'x')
+        self.assertFalse(sock.getblocking())
+        sock.close()
+        b.close()
+        self.assertEqual(self.channel.recv_message(), (87, b''), "the wake is kept for the sleep")
+
+    def test_a_refusal_has_no_socket(self):
+        self.reply([98, ''])
+        self.assertEqual(self.channel.net_open('server', '', 80), (98, None, ''))
+        with self.assertRaises(OSError) as e:
+            mcnet._opened((98, None, ''))
+        self.assertEqual(e.exception.errno, 98)
+
+
 if __name__ == '__main__':
     unittest.main()

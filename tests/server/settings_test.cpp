@@ -63,6 +63,34 @@ TEST(CommandLine, AllFlagsBothSpellings) {
   EXPECT_THROW(parse_command_line({"--dump-eds=1"}), UsageError);
 }
 
+TEST(CommandLine, ApiTokenFile) {
+  EXPECT_EQ(token_of_file_text("0123456789abcdef\n", "f"), "0123456789abcdef");
+  EXPECT_EQ(token_of_file_text("  s3cr3t-t0ken-of-mcemu \r\nsecond line ignored\n", "f"), "s3cr3t-t0ken-of-mcemu");
+  for (const char* bad : {"", "\n", "short\n", "0123456789 abcdef\n",
+                          "0123456789\x01"
+                          "abcdef"}) {
+    try {
+      token_of_file_text(bad, "/etc/mcemu/token");
+      ADD_FAILURE() << "accepted: " << bad;
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find("/etc/mcemu/token"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(parse_command_line({}).api_token.empty()) << "no token unless asked for";
+  EXPECT_THROW(parse_command_line({"--api-token", "/nonexistent/token"}), UsageError);
+  EXPECT_THROW(parse_command_line({"--api-token"}), UsageError);
+}
+
+TEST(CommandLine, UnsafeScriptsOnlyFromTheCommandLine) {
+  EXPECT_FALSE(parse_command_line({}).unsafe_scripts) << "the sandbox is required by default";
+  EXPECT_TRUE(parse_command_line({"--unsafe-scripts"}).unsafe_scripts);
+  EXPECT_THROW(parse_command_line({"--unsafe-scripts=1"}), UsageError);
+  for (const json& config : {json{{"unsafe-scripts", true}}, json{{"unsafe_scripts", true}}}) {
+    Settings s;
+    EXPECT_THROW(apply_config(s, config, {}), UsageError) << config.dump() << ": not from a config file";
+  }
+}
+
 struct Bad {
   std::vector<std::string> args;
   std::string message_part;

@@ -118,6 +118,14 @@ TEST(PageTemplate, CodePageWithAndWithoutEngine) {
   EXPECT_EQ(render_page("{{code.status}}|{{code.autoOn}}|{{code.autoOff}}|{{code.viewer}}", c, partials()),
             "RUN demo &lt;1&gt;|ON [X]|OFF|#id demo\nprint(&#39;&lt;x&gt;&#39;)\n");
   EXPECT_EQ(render_page("{{code.engine}}", c, partials()), "Script engine: python3 3.11.2");
+  // docs/security.md: without the sandbox the page says why (unavailable) or says so (unsafe)
+  c.info["scripting"] = json{{"available", false}, {"engine", nullptr}, {"reason", "no sandbox <here>"}};
+  EXPECT_EQ(render_page("{{code.engine}}", c, partials()),
+            "The script engine is not available: no sandbox &lt;here&gt;.");
+  c.info["scripting"] = json{{"available", true},
+                             {"engine", "python3 3.11.2"},
+                             {"sandbox", {{"active", false}, {"unsafe", true}, {"reason", "UNSAFE: no sandbox"}}}};
+  EXPECT_EQ(render_page("{{code.engine}}", c, partials()), "Script engine: python3 3.11.2. UNSAFE: no sandbox.");
 }
 
 TEST(PageTemplate, Helpers) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "tests/web/api_fixture.hpp"
 #include "web/api/http_util.hpp"
@@ -15,6 +16,7 @@ namespace mcemu::web::api {
 namespace {
 
 using device::apply_settings;
+using device::relaxation;
 using device::RuntimeSettings;
 using device::settings_json;
 
@@ -579,9 +581,11 @@ class FakeScript final : public ScriptControl {
   void code_act(int n) override { calls.push_back("codeAct " + std::to_string(n)); }
   PythonStatus status() const override { return PythonStatus{state, 7}; }
   int refgo_attach_mode() const override { return 2; }
+  SandboxView sandbox() const override { return sandbox_view; }
 
   std::string id = "demo", state = "OFF", source;
   bool usable = true;
+  SandboxView sandbox_view;
   std::vector<std::string> calls;
 };
 
@@ -616,6 +620,26 @@ TEST(Router, ScriptEndpointsForwardToTheEngine) {
   script.state = "RUN";
   EXPECT_EQ(f.call("POST", "/api/v1/faults", R"({"kind": "script.kill"})").status, 201);
   EXPECT_EQ(script.calls.back(), "kill");
+}
+
+// docs/security.md: /api/v1/info says whether scripts run in the sandbox, what it is, or why not.
+TEST(Router, InfoReportsTheScriptSandbox) {
+  ApiFixture f;
+  FakeScript script;
+  f.services.script = &script;
+  f.make_router();
+  EXPECT_FALSE(f.get("/api/v1/info")["scripting"].contains("sandbox")) << "nothing known, nothing said";
+  script.sandbox_view = {true, true, false, "bubblewrap 0.8.0: no network"};
+  EXPECT_EQ(f.get("/api/v1/info")["scripting"]["sandbox"],
+            (json{{"active", true}, {"unsafe", false}, {"description", "bubblewrap 0.8.0: no network"}}));
+  script.sandbox_view = {true, false, true, "UNSAFE: scripts run without the script sandbox"};
+  EXPECT_EQ(f.get("/api/v1/info")["scripting"]["sandbox"],
+            (json{{"active", false}, {"unsafe", true}, {"reason", "UNSAFE: scripts run without the script sandbox"}}));
+  script.usable = false;
+  script.sandbox_view = {true, false, false, "scripts do not run because the script sandbox cannot be set up (x)"};
+  const auto info = f.get("/api/v1/info")["scripting"];
+  EXPECT_EQ(info["available"], false);
+  EXPECT_EQ(info["sandbox"]["reason"], "scripts do not run because the script sandbox cannot be set up (x)");
 }
 
 // scripting.md §10.1.8: no usable python3 — the start is made (its UDP lines say so) and answered
@@ -816,6 +840,84 @@ TEST(Router, WebSocketPathWithoutUpgradeIs426) {
   EXPECT_EQ(header(r, "Upgrade"), "websocket");
 }
 
+// ---- docs/security.md: --api-token ----------------------------------------------------------------
+
+Request with_auth(Request r, std::string value) {
+  r.headers.emplace_back("authorization", std::move(value));
+  return r;
+}
+
+TEST(ApiToken, EmulatorEndpointsNeedItAndTheDrivesOwnStayOpen) {
+  ApiFixture f;
+  f.services.api_token = "0123456789abcdef-token";
+  f.make_router();
+  const auto answer = [&](Request req) {
+    Response out;
+    f.r().handle(req, [&](Response r) { out = std::move(r); });
+    return out;
+  };
+  // the token rows of the table: refused without the token, before anything is looked at
+  for (const auto& [method, path, body] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"PUT", "/api/v1/settings", R"({"traceScriptCalls": true})"},
+           {"POST", "/api/v1/clock/advance", R"({"ms": 1})"},
+           {"POST", "/api/v1/power-cycle", "{}"},
+           {"POST", "/api/v1/faults", R"({"kind": "udp.drop"})"},
+           {"DELETE", "/api/v1/faults", ""},
+           {"DELETE", "/api/v1/faults/f1", ""}}) {
+    for (const char* auth : {"", "Bearer wrong", "Bearer 0123456789abcdef-toke", "Basic 0123456789abcdef-token",
+                             "Bearer 0123456789abcdef-token2"}) {
+      auto req = make_request(method, path, "application/json", body);
+      const auto r = answer(*auth ? with_auth(req, auth) : req);
+      EXPECT_EQ(r.status, 401) << method << " " << path << " with '" << auth << "'";
+      EXPECT_EQ(f.json_of(r)["error"]["code"], "unauthorized");
+      EXPECT_EQ(header(r, "WWW-Authenticate"), "Bearer realm=\"mcemu\"");
+    }
+    const auto ok =
+        answer(with_auth(make_request(method, path, "application/json", body), "bearer  0123456789abcdef-token"));
+    EXPECT_NE(ok.status, 401) << method << " " << path;
+  }
+  EXPECT_EQ(f.get("/api/v1/settings")["traceScriptCalls"], true) << "the authorised PUT was applied";
+  // everything the real drive has, and reading the emulator's state, stays open
+  EXPECT_EQ(f.call("GET", "/api/v1/info").status, 200);
+  EXPECT_EQ(f.call("GET", "/api/v1/settings").status, 200);
+  EXPECT_EQ(f.call("GET", "/api/v1/faults").status, 200);
+  EXPECT_EQ(f.call("PUT", "/api/v1/objects/6083/0", R"({"value": 2000})", "application/json").status, 200);
+  EXPECT_EQ(f.call("POST", "/api/v1/refgo", R"({"line": "TP"})").status, 200);
+  EXPECT_NE(f.call("GET", "/index.html").status, 401);
+}
+
+TEST(ApiToken, WithoutTheFlagNothingChanges) {
+  ApiFixture f;
+  f.make_router();
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"traceScriptCalls": true})", "application/json").status, 200);
+  EXPECT_EQ(f.call("DELETE", "/api/v1/faults").status, 200);
+}
+
+TEST(ApiToken, TheOpenApiDocumentMarksTheTokenRows) {
+  ApiFixture f;
+  const json doc = f.get("/api/v1/openapi.json");
+  EXPECT_EQ(doc["components"]["securitySchemes"]["bearer"]["scheme"], "bearer");
+  EXPECT_TRUE(doc["paths"]["/api/v1/settings"]["put"].contains("security"));
+  EXPECT_TRUE(doc["paths"]["/api/v1/settings"]["put"]["responses"].contains("401"));
+  EXPECT_FALSE(doc["paths"]["/api/v1/settings"]["get"].contains("security"));
+  EXPECT_FALSE(doc["paths"]["/api/v1/objects/{index}/{sub}"]["put"].contains("security"));
+  std::size_t rows = 0;
+  for (const auto& r : Router::route_docs()) rows += r.token ? 1 : 0;
+  EXPECT_EQ(rows, 6U) << "settings, clock advance, power cycle, faults (create, clear, remove)";
+}
+
+TEST(ApiToken, BearerMatching) {
+  EXPECT_TRUE(bearer_matches("Bearer abc", "abc"));
+  EXPECT_TRUE(bearer_matches("BEARER   abc  ", "abc"));
+  EXPECT_FALSE(bearer_matches(std::nullopt, "abc"));
+  EXPECT_FALSE(bearer_matches("Bearer abc", ""));
+  EXPECT_FALSE(bearer_matches("Bearer ab", "abc"));
+  EXPECT_FALSE(bearer_matches("Bearer abcd", "abc"));
+  EXPECT_FALSE(bearer_matches("Bearer", "abc"));
+  EXPECT_FALSE(bearer_matches("Bearerabc", "abc"));
+  EXPECT_FALSE(bearer_matches("Token abc", "abc"));
+}
+
 // ---- §8.9 settings --------------------------------------------------------------------------------
 
 TEST(Router, RuntimeSettings) {
@@ -827,12 +929,12 @@ TEST(Router, RuntimeSettings) {
       f.get("/api/v1/settings"),
       (json{
           {"udpEmulatorNotes", false}, {"scriptStrict", true}, {"scriptMemoryMiB", 128}, {"traceScriptCalls", false}}));
-  auto r = f.call("PUT", "/api/v1/settings", R"({"scriptStrict": false, "scriptMemoryMiB": 8})");
+  auto r = f.call("PUT", "/api/v1/settings", R"({"traceScriptCalls": true, "scriptMemoryMiB": 8})");
   ASSERT_EQ(r.status, 200);
   EXPECT_EQ(f.json_of(r)["scriptMemoryMiB"], 32) << "below 32 is taken as 32";
-  EXPECT_EQ(f.json_of(r)["scriptStrict"], false);
+  EXPECT_EQ(f.json_of(r)["traceScriptCalls"], true);
   ASSERT_EQ(changes.size(), 1u);
-  EXPECT_FALSE(changes[0].script_strict);
+  EXPECT_TRUE(changes[0].trace_script_calls);
   for (const char* bad : {R"({"nope": true})", R"({"udpEmulatorNotes": "yes"})", R"({"scriptMemoryMiB": 1.5})",
                           R"({"scriptMemoryMiB": -1})", R"({"scriptMemoryMiB": true})", R"([])",
                           R"({"scriptStrict": true, "unknown": 1})", ""}) {
@@ -843,9 +945,56 @@ TEST(Router, RuntimeSettings) {
       f.json_of(f.call("PUT", "/api/v1/settings", R"({"nope": true})"))["error"]["message"].get<std::string>().find(
           "nope"),
       std::string::npos);
-  EXPECT_EQ(f.get("/api/v1/settings")["scriptStrict"], false) << "a refused change changes nothing";
+  EXPECT_EQ(f.get("/api/v1/settings")["traceScriptCalls"], true) << "a refused change changes nothing";
   EXPECT_EQ(changes.size(), 1u);
   EXPECT_EQ(f.r().settings().script_memory_mib, 32);
+}
+
+// docs/security.md: over HTTP the script settings may be tightened, never relaxed beyond their start
+// values — 403, nothing changes, nothing is told to the server.
+TEST(Router, RelaxingScriptSettingsOverHttpIs403) {
+  ApiFixture f;
+  std::vector<RuntimeSettings> changes;
+  f.observe_settings([&](const RuntimeSettings& s) { changes.push_back(s); });
+  f.make_router();
+  for (const char* relax : {R"({"scriptStrict": false})", R"({"scriptMemoryMiB": 257})",
+                            R"({"traceScriptCalls": true, "scriptStrict": false})"}) {
+    const auto r = f.call("PUT", "/api/v1/settings", relax);
+    EXPECT_EQ(r.status, 403) << relax;
+    EXPECT_EQ(f.json_of(r)["error"]["code"], "forbidden");
+    EXPECT_NE(f.json_of(r)["error"]["message"].get<std::string>().find("config file"), std::string::npos);
+  }
+  EXPECT_TRUE(changes.empty());
+  EXPECT_EQ(f.get("/api/v1/settings")["traceScriptCalls"], false) << "all or nothing";
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"scriptStrict": true, "scriptMemoryMiB": 256})").status, 200);
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"scriptMemoryMiB": 64})").status, 200) << "tightening is fine";
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"scriptMemoryMiB": 256})").status, 200) << "back to the default";
+}
+
+TEST(Router, WhatTheConfigFileRelaxedHttpMayRestore) {
+  ApiFixture f("MC349", json{{"settings", {{"scriptStrict", false}, {"scriptMemoryMiB", 1024}}}});
+  f.make_router();
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"scriptStrict": true, "scriptMemoryMiB": 64})").status, 200);
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"scriptStrict": false, "scriptMemoryMiB": 1024})").status, 200);
+  EXPECT_EQ(f.call("PUT", "/api/v1/settings", R"({"scriptMemoryMiB": 1025})").status, 403);
+}
+
+TEST(RuntimeSettingsJson, Relaxation) {
+  const RuntimeSettings start;
+  RuntimeSettings next;
+  EXPECT_FALSE(relaxation(start, next));
+  next.script_strict = false;
+  EXPECT_TRUE(relaxation(start, next));
+  next = start;
+  next.script_memory_mib = RuntimeSettings::k_default_script_memory_mib + 1;
+  EXPECT_TRUE(relaxation(start, next));
+  RuntimeSettings small = start;
+  small.script_memory_mib = 64;  // a config that starts lower still lets HTTP go up to the default
+  next.script_memory_mib = RuntimeSettings::k_default_script_memory_mib;
+  EXPECT_FALSE(relaxation(small, next));
+  next.udp_emulator_notes = true;
+  next.trace_script_calls = true;
+  EXPECT_FALSE(relaxation(small, next)) << "the other settings are not the sandbox's business";
 }
 
 TEST(RuntimeSettingsJson, AllOrNothing) {

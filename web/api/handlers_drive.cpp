@@ -61,6 +61,11 @@ nlohmann::json Router::info_json() const {
     ports["faulhaber"] = i.faulhaber_port;
     if (!i.faulhaber_pty.empty()) ports["faulhaberPty"] = i.faulhaber_pty;
   }
+  // docs/security.md: whether scripts run in the OS sandbox, and what it is or why there is none
+  if (const SandboxView sb = services_.script ? services_.script->sandbox() : SandboxView{}; sb.known) {
+    scripting["sandbox"] =
+        json{{"active", sb.active}, {"unsafe", sb.unsafe}, {sb.active ? "description" : "reason", sb.text}};
+  }
   return json{{"emulator", "mcemu"},
               {"personality", personality.name},
               {"version", i.version},

@@ -154,7 +154,17 @@ std::optional<std::string> value_of(std::string_view key, const PageContext& ctx
           "are switched off. RefGo, CANopen, the I/O functions and every other page work as usual.");
     }
     const auto* e = find_path(ctx.info, "scripting.engine");
-    return html_escape("Script engine: " + (e && e->is_string() ? e->get<std::string>() : std::string("available")));
+    const auto* reason = find_path(ctx.info, "scripting.reason");
+    const auto* unsafe = find_path(ctx.info, "scripting.sandbox.unsafe");
+    if (!(e && e->is_string()) && reason && reason->is_string()) {  // unavailable: say why
+      return html_escape("The script engine is not available: " + reason->get<std::string>() + ".");
+    }
+    std::string text = "Script engine: " + (e && e->is_string() ? e->get<std::string>() : std::string("available"));
+    if (unsafe && unsafe->is_boolean() && unsafe->get<bool>()) {
+      const auto* why = find_path(ctx.info, "scripting.sandbox.reason");
+      if (why && why->is_string()) text += ". " + why->get<std::string>() + ".";
+    }
+    return html_escape(text);
   }
   if (key == "page.data") return script_json_text(page_data(ctx));
   return std::nullopt;

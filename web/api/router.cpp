@@ -243,7 +243,8 @@ const std::vector<Router::Route>& Router::routes() {
         "application/json",
         k_empty_body,
         "application/json",
-        {k_415, k_503}},
+        {k_415, k_503},
+        true},
        &Router::post_power_cycle},
       {{M::get, "/api/v1/settings", "Runtime settings (web.md §8.9)"}, &Router::get_settings},
       {{M::put,
@@ -253,7 +254,9 @@ const std::vector<Router::Route>& Router::routes() {
         "application/json",
         k_settings_body,
         "application/json",
-        {k_400}},
+        {k_400,
+         {403, "would relax the script settings beyond their start values (scriptStrict false, more scriptMemoryMiB)"}},
+        true},
        &Router::put_settings},
       {{M::get, "/api/v1/clock", "Clock mode, scale and drive time (web.md §8.10)"}, &Router::get_clock},
       {{M::post,
@@ -263,7 +266,8 @@ const std::vector<Router::Route>& Router::routes() {
         "application/json",
         k_advance_body,
         "application/json",
-        {k_400, {409, "clock not in manual mode"}, k_415, k_503}},
+        {k_400, {409, "clock not in manual mode"}, k_415, k_503},
+        true},
        &Router::post_clock_advance},
       {{M::get, "/api/v1/faults", "Active fault injections (web.md §9)"}, &Router::get_faults},
       {{M::post,
@@ -273,9 +277,11 @@ const std::vector<Router::Route>& Router::routes() {
         "application/json",
         k_fault_body,
         "application/json",
-        {k_201, k_400, {409, "refused in the current state (script.kill: no script running)"}, k_415, k_503}},
+        {k_201, k_400, {409, "refused in the current state (script.kill: no script running)"}, k_415, k_503},
+        true},
        &Router::post_faults},
-      {{M::del, "/api/v1/faults", "Remove every fault injection"}, &Router::delete_faults},
+      {{M::del, "/api/v1/faults", "Remove every fault injection", {}, "", "", "application/json", {}, true},
+       &Router::delete_faults},
       {{M::del,
         "/api/v1/faults/{id}",
         "Remove one fault injection",
@@ -283,7 +289,8 @@ const std::vector<Router::Route>& Router::routes() {
         "",
         "",
         "application/json",
-        {{404, "no active injection with that id"}}},
+        {{404, "no active injection with that id"}},
+        true},
        &Router::delete_fault},
       {{M::get, "/api/v1/eds", "CANopen EDS of the model (as mcemu --dump-eds)", {}, "", "", "text/plain", {k_503}},
        &Router::get_eds},
@@ -411,6 +418,16 @@ void Router::dispatch(const Request& request, const Respond& respond) {
   if (!route) {
     auto r = error_json(405, "method", "method " + request.method + " not allowed on " + path);
     r.headers.emplace_back("Allow", allow);
+    return respond(std::move(r));
+  }
+  // docs/security.md: with --api-token, mcemu's own emulator endpoints need the bearer token; the
+  // drive's own pages and endpoints stay as open as on the real drive.
+  if (route->doc.token && !services_.api_token.empty() &&
+      !bearer_matches(request.header("authorization"), services_.api_token)) {
+    auto r =
+        error_json(401, "unauthorized",
+                   "this emulator endpoint needs the bearer token of mcemu's --api-token (Authorization: Bearer …)");
+    r.headers.emplace_back("WWW-Authenticate", "Bearer realm=\"mcemu\"");
     return respond(std::move(r));
   }
   if (request.method == "POST" && !is_json_media_type(request.content_type)) {

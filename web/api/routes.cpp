@@ -1,5 +1,7 @@
 #include "web/api/routes.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <map>
 
 namespace mcemu::web::api {
@@ -78,6 +80,28 @@ std::vector<std::string> parameter_names(std::string_view pattern) {
   return out;
 }
 
+bool bearer_matches(std::optional<std::string_view> authorization, std::string_view token) {
+  if (!authorization || token.empty()) return false;
+  std::string_view a = *authorization;
+  constexpr std::string_view scheme = "bearer ";
+  if (a.size() < scheme.size()) return false;
+  for (std::size_t k = 0; k < scheme.size(); ++k) {
+    if (std::tolower(static_cast<unsigned char>(a[k])) != scheme[k]) return false;
+  }
+  a.remove_prefix(scheme.size());
+  while (!a.empty() && a.front() == ' ') a.remove_prefix(1);
+  while (!a.empty() && (a.back() == ' ' || a.back() == '\t')) a.remove_suffix(1);
+  // every byte of the longer one is looked at: the time does not tell how much of a guess was right
+  unsigned diff = a.size() == token.size() ? 0U : 1U;
+  const std::size_t n = std::max(a.size(), token.size());
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto x = k < a.size() ? static_cast<unsigned char>(a[k]) : 0U;
+    const auto y = k < token.size() ? static_cast<unsigned char>(token[k]) : 0U;
+    diff |= x ^ y;
+  }
+  return diff == 0;
+}
+
 json openapi_document(std::span<const RouteDoc> rows, std::string_view version) {
   json paths = json::object();
   for (const auto& r : rows) {
@@ -105,6 +129,12 @@ json openapi_document(std::span<const RouteDoc> rows, std::string_view version) 
     }
     json responses = json::object();
     responses["200"] = {{"description", "OK"}, {"content", {{r.answer_type, json::object()}}}};
+    if (r.token) {
+      op["security"] = json::array({{{"bearer", json::array()}}});
+      responses["401"] = {
+          {"description", "mcemu was started with --api-token and the bearer token is missing or wrong"},
+          {"content", {{"application/json", {{"schema", {{"$ref", "#/components/schemas/Error"}}}}}}}};
+    }
     for (const auto& a : r.answers) {
       json answer{{"description", a.description}};
       if (a.status >= 300)
@@ -126,7 +156,8 @@ json openapi_document(std::span<const RouteDoc> rows, std::string_view version) 
           {"properties",
            {{"code",
              {{"type", "string"},
-              {"description", "abort, syntax, content-type, method, not-found, conflict, unavailable"}}},
+              {"description",
+               "abort, syntax, content-type, method, not-found, conflict, unavailable, forbidden, unauthorized"}}},
             {"abortCode", {{"type", "string"}, {"description", "SDO abort code, e.g. 06090031h (code abort only)"}}},
             {"message", {{"type", "string"}}}}}}}}}};
   return json{{"openapi", "3.0.3"},
@@ -137,7 +168,13 @@ json openapi_document(std::span<const RouteDoc> rows, std::string_view version) 
                  "The JSON API of the MovingCap emulator mcemu (web.md §8). Every state-changing POST needs "
                  "Content-Type: application/json; errors carry the body of components.schemas.Error."}}},
               {"paths", paths},
-              {"components", {{"schemas", {{"Error", error_schema}}}}}};
+              {"components",
+               {{"schemas", {{"Error", error_schema}}},
+                {"securitySchemes",
+                 {{"bearer",
+                   {{"type", "http"},
+                    {"scheme", "bearer"},
+                    {"description", "only when mcemu runs with --api-token FILE (docs/security.md)"}}}}}}}};
 }
 
 }  // namespace mcemu::web::api

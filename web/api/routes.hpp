@@ -38,7 +38,13 @@ struct RouteDoc {
   std::string_view body_schema{};   // JSON Schema of the body, as JSON text ("" = any)
   std::string_view answer_type = "application/json";
   std::vector<Answer> answers{};  // the statuses besides the default 200
+  // An emulator endpoint that --api-token protects (docs/security.md): bearer security and 401.
+  bool token = false;
 };
+
+// docs/security.md: the bearer token of --api-token is in `authorization` ("Bearer <token>",
+// scheme case-insensitive); compared in time independent of where they differ.
+bool bearer_matches(std::optional<std::string_view> authorization, std::string_view token);
 
 // The values of the {parameters} of `pattern` if `path` matches it (a parameter matches one
 // segment, also an empty one), else nullopt.

@@ -75,6 +75,13 @@ struct ScriptView {
   std::string source;  // the visible part (cut at the first line starting with #private)
   bool has_private = false;
 };
+// The script sandbox as GET /api/v1/info and the Code page report it (docs/security.md).
+struct SandboxView {
+  bool known = false;   // false: the engine says nothing about a sandbox (no field in /api/v1/info)
+  bool active = false;  // runs are sandboxed
+  bool unsafe = false;  // runs without the sandbox because --unsafe-scripts allowed it
+  std::string text;     // what the sandbox is (active), else the one sentence why there is none
+};
 class ScriptControl {
  public:
   virtual ~ScriptControl() = default;
@@ -82,6 +89,7 @@ class ScriptControl {
   // a start sends the "engine unavailable" UDP line.
   virtual bool available() const = 0;
   virtual std::string engine() const = 0;  // "python3 3.11.2"; the reason while unavailable
+  virtual SandboxView sandbox() const { return {}; }
   virtual ScriptView view() const = 0;
   // Replaces the script in RAM (web.md §6.1 effects); an error message → 400. The router has
   // checked 1 … 65 536 bytes.
@@ -132,6 +140,9 @@ struct Services {
   trace::Ring* trace = nullptr;
   // The script engine; null = no engine in this build (503).
   ScriptControl* script = nullptr;
+  // --api-token FILE (docs/security.md): when not empty, the route table's token rows (settings,
+  // clock, power cycle, faults) answer 401 without "Authorization: Bearer <this>".
+  std::string api_token;
 };
 
 }  // namespace mcemu::web::api

@@ -25,8 +25,22 @@ export function describe(err) {
   return String((err && err.message) || err);
 }
 
-async function call(method, path, body, contentType = 'application/json') {
+// docs/security.md: with `mcemu --api-token FILE` the emulator endpoints (settings, clock, power
+// cycle, faults) answer 401 without the token; the page asks for it once and keeps it for the tab.
+const TOKEN_KEY = 'mcemu.apiToken';
+let enteredToken = '';
+function storedToken() {
+  try {
+    return sessionStorage.getItem(TOKEN_KEY) || enteredToken;
+  } catch {
+    return enteredToken;
+  }
+}
+
+async function call(method, path, body, contentType = 'application/json', retried = false) {
   const init = { method, cache: 'no-store', headers: {} };
+  const token = storedToken();
+  if (token) init.headers.Authorization = `Bearer ${token}`;
   if (body !== undefined) {
     init.headers['Content-Type'] = contentType;
     init.body = contentType === 'application/json' ? JSON.stringify(body) : body;
@@ -44,6 +58,18 @@ async function call(method, path, body, contentType = 'application/json') {
       data = JSON.parse(text);
     } catch {
       throw new ApiError(res.status, null, `unreadable answer from ${path}`);
+    }
+  }
+  if (res.status === 401 && !retried && typeof window !== 'undefined' && window.prompt) {
+    const entered = window.prompt('This emulator endpoint needs the token of mcemu --api-token:');
+    if (entered) {
+      enteredToken = entered.trim();
+      try {
+        sessionStorage.setItem(TOKEN_KEY, enteredToken);
+      } catch {
+        // no session storage: the token lives as long as this page
+      }
+      return call(method, path, body, contentType, true);
     }
   }
   if (!res.ok) throw new ApiError(res.status, data, `${res.status} ${res.statusText || 'error'}`);

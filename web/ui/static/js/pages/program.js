@@ -49,13 +49,20 @@ async function loadViewer() {
 
 live.info.then((info) => {
   if (!info.scripting || !info.scripting.available) {
-    $('code-engine').textContent = 'The script engine is not available in this version of mcemu: uploading, running, stopping and autostart are switched off. RefGo, CANopen, the I/O functions and every other page work as usual.';
+    $('code-engine').textContent = info.scripting && info.scripting.reason
+      ? `The script engine is not available: ${info.scripting.reason}. Running, stopping and autostart are switched off; RefGo, CANopen, the I/O functions and every other page work as usual.`
+      : 'The script engine is not available in this version of mcemu: uploading, running, stopping and autostart are switched off. RefGo, CANopen, the I/O functions and every other page work as usual.';
     for (const c of controls) c.disabled = true;
     $('code-viewer').textContent = '(no script to show: the script engine is not available)';
     return;
   }
-  $('code-engine').textContent = `Script engine: ${info.scripting.engine}`;
-  $('code-engine').className = 'hint';
+  const sandbox = info.scripting.sandbox;
+  if (sandbox && sandbox.unsafe) {  // --unsafe-scripts: say so where scripts are started
+    $('code-engine').textContent = `Script engine: ${info.scripting.engine}. ${sandbox.reason}.`;
+  } else {
+    $('code-engine').textContent = `Script engine: ${info.scripting.engine}`;
+    $('code-engine').className = 'hint';
+  }
   live.on('status', (s) => {
     const text = `${s.python.state} ${s.python.id}`;
     if ($('code-status').textContent !== text) $('code-status').textContent = text;
