@@ -54,8 +54,10 @@ void on_controlword(const OdWrite& w, const DriveView& v, const At& at, Reporter
              " is ignored";
     });
   }
+  // 6061h follows a 6060h write only in the next step on a MovingCap (drive-core.md §6.3): the mode
+  // last written counts as well as the one displayed.
   if ((before == Pds::ready_to_switch_on || before == Pds::switched_on) && after == Pds::operation_enabled &&
-      w.mode_after == 3 && v.target_velocity != 0) {
+      (w.mode_after == 3 || v.mode_command == 3) && v.target_velocity != 0) {
     rep.fire(RuleId::cia402_enable_with_velocity_target, at, [&] {
       return "controlword " + hex4(cw) +
              " enabled operation in profile velocity with 60FFh = " + std::to_string(v.target_velocity);

@@ -32,6 +32,16 @@ TEST(Cia402EnableWithVelocityTarget, TransitionThreePlusFourFromReadyFires) {
   EXPECT_TRUE(l.only(RuleId::cia402_enable_with_velocity_target));
 }
 
+TEST(Cia402EnableWithVelocityTarget, ModeWrittenInTheSameStepFires) {
+  // MovingCap: 6061h shows the new mode only after the next step; the enable still starts PV
+  Lint l;
+  l.drive_at(0, k_so, 1);
+  l.engine.observe(write(1, 0x60FF, 500, k_so, 1));
+  l.engine.observe(write(1, 0x6060, 3, k_so, 1));
+  l.engine.observe(write(1, 0x6040, 0x000F, k_oe, 1));
+  EXPECT_TRUE(l.only(RuleId::cia402_enable_with_velocity_target));
+}
+
 TEST(Cia402EnableWithVelocityTarget, QuietCases) {
   {  // target 0 at the enable, the target afterwards: the careful order
     Lint l;
