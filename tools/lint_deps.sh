@@ -7,7 +7,7 @@ cd "${LINT_ROOT:-$(dirname "${BASH_SOURCE[0]}")/..}" || exit 2
 
 # The pure folders (design.md): the drive, the bundle and everything it is built from, the JSON API.
 pure_files() {
-  { find base drive iofunc device web/api web/assets trace scripting/core scripting/basic sim -type f \( -name '*.cpp' -o -name '*.hpp' \) 2>/dev/null
+  { find base drive iofunc device web/api web/assets trace lint scripting/core scripting/basic sim -type f \( -name '*.cpp' -o -name '*.hpp' \) 2>/dev/null
     find protocols -type f \( -name '*.cpp' -o -name '*.hpp' \) -not -path '*/net/*' 2>/dev/null
     ls persistence/state_document.* persistence/service.* 2>/dev/null; } | sort
 }
@@ -27,9 +27,11 @@ check_layer() {  # folder, forbidden include prefixes (regex)
   [ -d "$folder" ] || return 0
   if grep -rnE "#include[[:space:]]*\"($pattern)" "$folder" --include='*.cpp' --include='*.hpp'; then status=1; fi
 }
-check_layer base 'drive/|iofunc/|protocols/|web/|server/|persistence/|scripting/|sim/|device/|trace/'
-check_layer trace 'drive/|iofunc/|protocols/|web/|server/|persistence/|scripting/|sim/|device/'
-check_layer drive 'iofunc/|protocols/|web/|server/|persistence/|scripting/|sim/|device/'
+check_layer base 'drive/|iofunc/|protocols/|web/|server/|persistence/|scripting/|sim/|device/|trace/|lint/'
+check_layer trace 'drive/|iofunc/|protocols/|web/|server/|persistence/|scripting/|sim/|device/|lint/'
+# lint (the master lint): standard library, nlohmann-json, base/, trace/ and drive/ only
+check_layer lint 'iofunc/|protocols/|web/|server/|persistence/|scripting/|sim/|device/'
+check_layer drive 'iofunc/|protocols/|web/|server/|persistence/|scripting/|sim/|device/|lint/'
 check_layer iofunc 'protocols/|web/|server/|persistence/|scripting/|sim/|device/'
 check_layer persistence 'web/|server/|scripting/|sim/|device/|protocols/'
 check_layer sim 'web/|server/|persistence/|scripting/|device/|protocols/'

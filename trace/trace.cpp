@@ -6,8 +6,8 @@
 namespace mcemu::trace {
 
 namespace {
-constexpr std::array<std::string_view, k_channel_count> k_channel_names{"refgo", "slcan", "udp",       "http", "script",
-                                                                        "drive", "api",   "faulhaber", "basic"};
+constexpr std::array<std::string_view, k_channel_count> k_channel_names{
+    "refgo", "slcan", "udp", "http", "script", "drive", "api", "faulhaber", "basic", "lint"};
 }
 
 std::string_view to_string(Channel c) { return k_channel_names[static_cast<std::size_t>(c)]; }

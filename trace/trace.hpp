@@ -1,8 +1,8 @@
 // The trace ring of web.md §8.6: the newest events of every channel (RefGo lines, SLCAN frames, UDP
-// datagrams, HTTP requests, script calls, drive events, API writes), each with a sequence number,
-// drive time and wall time. PURE: the two clocks are injected (the server passes drive time and a
-// UTC formatter; tests pass fakes). Producers hold a Ring& (or a Ring*, null = tracing off) and call
-// record(); readers query by sequence number and channel set.
+// datagrams, HTTP requests, script calls, drive events, API writes, master-lint findings), each with a
+// sequence number, drive time and wall time. PURE: the two clocks are injected (the server passes
+// drive time and a UTC formatter; tests pass fakes). Producers hold a Ring& (or a Ring*, null =
+// tracing off) and call record(); readers query by sequence number and channel set.
 //
 // Contract: single-threaded (the event loop). Sequence numbers start at 1 and never repeat;
 // an event that left the ring is counted in Result::dropped of a query that asks for it.
@@ -19,8 +19,10 @@
 
 namespace mcemu::trace {
 
-enum class Channel : std::uint8_t { refgo, slcan, udp, http, script, drive, api, faulhaber, basic };
-inline constexpr std::size_t k_channel_count = 9;
+// faulhaber: frames of the FAULHABER binary protocol; basic: MC BASIC programs; lint: findings of the
+// master lint (docs/lint.md), one event each.
+enum class Channel : std::uint8_t { refgo, slcan, udp, http, script, drive, api, faulhaber, basic, lint };
+inline constexpr std::size_t k_channel_count = 10;
 enum class Dir : std::uint8_t { rx, tx, event };
 
 std::string_view to_string(Channel c);

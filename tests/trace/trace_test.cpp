@@ -100,6 +100,9 @@ TEST(TraceChannels, Parse) {
   EXPECT_TRUE(s->contains(Channel::udp));
   EXPECT_FALSE(s->contains(Channel::slcan));
   EXPECT_FALSE(parse_channels("refgo,bogus"));
+  // the master lint's channel (docs/lint.md) is one of "all"
+  EXPECT_EQ(channel_from_string("lint"), Channel::lint);
+  EXPECT_TRUE(ChannelSet{}.contains(Channel::lint));
   EXPECT_FALSE(parse_channels("refgo,"));
   for (std::size_t i = 0; i < k_channel_count; ++i) {
     const auto c = static_cast<Channel>(i);

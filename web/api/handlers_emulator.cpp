@@ -49,7 +49,7 @@ std::variant<TraceQuery, Response> trace_query(const std::map<std::string, std::
   const std::string* channels = get("channels");
   const auto set = trace::parse_channels(channels ? std::string_view(*channels) : default_channels);
   if (!set || (channels && channels->empty())) {
-    return bad("\"channels\": comma-separated names of refgo, slcan, udp, http, script, drive, api, faulhaber, basic");
+    return bad("\"channels\": comma-separated names of refgo, slcan, udp, http, script, drive, api, faulhaber, basic, lint");
   }
   t.q.channels = *set;
   if (const auto* l = get("limit")) {

@@ -49,7 +49,7 @@ const Answer k_503_engine{503, "no script engine in this build"};
 const std::vector<QueryParam> k_trace_query{
     {"since", "integer", "first sequence number wanted (default 0)"},
     {"channels", "string",
-     "comma-separated channels: refgo, slcan, udp, http, script, drive, api, faulhaber, basic (default all)"},
+     "comma-separated channels: refgo, slcan, udp, http, script, drive, api, faulhaber, basic, lint (default all)"},
     {"limit", "integer", "at most this many events, 1 … 10000 (default 500)"}};
 const std::vector<QueryParam> k_export_query{
     {"since", "integer", "first sequence number wanted (default 0)"},
