@@ -1,5 +1,6 @@
 #include "device/device.hpp"
 
+#include <climits>
 #include <cstdio>
 #include <utility>
 
@@ -53,6 +54,7 @@ Device::Device(Setup setup, Environment env)
   build_core();
   if (personality_->canopen) build_canopen();
   if (personality_->faulhaber) build_faulhaber();
+  if (personality_->basic) build_basic();
   trace_ = std::make_unique<trace::Ring>(
       trace::Ring::Clocks{[this] { return core_->time_ms(); }, [this] { return env_.unix_ms ? env_.unix_ms() : 0; }});
   faults_ = std::make_unique<FaultInjections>(*od_, *core_);
@@ -175,6 +177,96 @@ void Device::device_reset() {
   if (env_.wake) env_.wake();
 }
 
+// MC BASIC (faulhaber.md §9): eight program slots and the interpreter, stepped after the core; the
+// program texts, the autostart number and the SAVEd variables live in the state directory.
+void Device::build_basic() {
+  basic::Settings bs;
+  int autostart = 0;
+  if (const auto it = config_.find("faulhaber"); it != config_.end()) {
+    if (const auto n = it->find("basic_statements_per_ms"); n != it->end()) {
+      if (!n->is_number_unsigned() || n->get<std::uint64_t>() < 1 || n->get<std::uint64_t>() > 100000) {
+        throw ConfigError("config: \"faulhaber.basic_statements_per_ms\" must be an integer 1 … 100000");
+      }
+      bs.statements_per_ms = static_cast<std::uint32_t>(n->get<std::uint64_t>());
+    }
+    if (const auto a = it->find("autostart"); a != it->end()) {
+      if (!a->is_number_unsigned() || a->get<std::uint64_t>() > 8) {
+        throw ConfigError("config: \"faulhaber.autostart\" must be a program number 0 … 8 (0 = none)");
+      }
+      autostart = static_cast<int>(a->get<std::uint64_t>());
+    }
+  }
+  basic_vars_ = std::make_unique<basic::MemoryVariables>([this](const basic::MemoryVariables::Values& values) {
+    nlohmann::json doc = nlohmann::json::object();
+    for (std::size_t v = 0; v < values.size(); ++v) {
+      if (values[v]) doc[std::string(1, static_cast<char>('a' + v))] = *values[v];
+    }
+    if (env_.write_state_file) env_.write_state_file("faulhaber/variables.json", doc.dump(1) + "\n");
+  });
+  basic_ = std::make_unique<basic::Programs>(*od_, *basic_vars_, std::move(bs), [this](const basic::Event& e) {
+    trace_->record(trace::Channel::basic, trace::Dir::event, basic::describe(e));
+    if (e.kind == basic::EventKind::error) log(LogLevel::warning, "MC BASIC: " + basic::describe(e));
+  });
+  basic_->set_autostart(autostart);
+  load_basic_files();
+}
+
+// The state directory's MC BASIC files: program<n>.bas, variables.json ({"a": 5, …}) and
+// basic.json ({"autostart": n}, written when the autostart is changed over the API).
+void Device::load_basic_files() {
+  if (!env_.read_state_file) return;
+  for (int slot = 1; slot <= basic::Programs::k_slots; ++slot) {
+    if (auto text = env_.read_state_file("faulhaber/program" + std::to_string(slot) + ".bas")) {
+      if (basic_->upload(slot, *text) != basic::Programs::Upload::ok) {
+        log(LogLevel::warning,
+            "MC BASIC: faulhaber/program" + std::to_string(slot) + ".bas is larger than 4096 bytes; ignored");
+      }
+    }
+  }
+  if (auto text = env_.read_state_file("faulhaber/variables.json")) {
+    const auto doc = nlohmann::json::parse(*text, nullptr, false);
+    if (doc.is_object()) {
+      for (const auto& [name, value] : doc.items()) {
+        if (name.size() == 1 && name[0] >= 'a' && name[0] <= 'z' && value.is_number_integer() &&
+            value.get<std::int64_t>() >= INT32_MIN && value.get<std::int64_t>() <= INT32_MAX) {
+          basic_vars_->set(static_cast<std::uint8_t>(name[0] - 'a'),
+                           static_cast<std::int32_t>(value.get<std::int64_t>()));
+        }
+      }
+    } else {
+      log(LogLevel::warning, "MC BASIC: faulhaber/variables.json is not a JSON object; SAVEd variables read as 0");
+    }
+  }
+  if (auto text = env_.read_state_file("faulhaber/basic.json")) {
+    const auto doc = nlohmann::json::parse(*text, nullptr, false);
+    if (doc.is_object() && doc.contains("autostart") && doc["autostart"].is_number_unsigned()) {
+      basic_->set_autostart(static_cast<int>(doc["autostart"].get<std::uint64_t>()));
+    }
+  }
+}
+
+void Device::save_basic_state() {
+  if (env_.write_state_file) {
+    env_.write_state_file("faulhaber/basic.json", nlohmann::json{{"autostart", basic_->autostart()}}.dump() + "\n");
+  }
+}
+
+basic::Programs::Upload Device::upload_program(int slot, std::string_view text) {
+  if (!basic_) return basic::Programs::Upload::bad_slot;
+  const auto r = basic_->upload(slot, text);
+  if (r == basic::Programs::Upload::ok && env_.write_state_file) {
+    env_.write_state_file("faulhaber/program" + std::to_string(slot) + ".bas", std::string(text));
+  }
+  if (env_.wake) env_.wake();
+  return r;
+}
+
+bool Device::set_basic_autostart(int slot) {
+  if (!basic_ || !basic_->set_autostart(slot)) return false;
+  save_basic_state();
+  return true;
+}
+
 // Fault injection reports on the trace (channel api) and, with udpEmulatorNotes, as a UDP note.
 void Device::wire_faults() {
   faults_->set_kind_filter([p = personality_](std::string_view kind) {
@@ -200,6 +292,7 @@ void Device::build_steps() {
     parts_.push_back(std::make_unique<FaultsPart>(*faults_, *core_));
     parts_.push_back(std::make_unique<ScopePart>(scope_, *core_, *od_));
     if (refgo_) parts_.push_back(std::make_unique<RefgoPart>(*refgo_, *core_));
+    if (basic_) parts_.push_back(std::make_unique<BasicPart>(*basic_, *core_));
     parts_.push_back(std::make_unique<sim::HookPart>([this] { handle_events(); }));
     if (canopen_) parts_.push_back(std::make_unique<CanopenPart>(*canopen_));
     if (fh_port_) parts_.push_back(std::make_unique<FaulhaberPart>(*fh_port_, *core_));
@@ -270,6 +363,7 @@ void Device::power_up_network() {
     fh_quiet_ = false;
     fh_port_->send_boot();
   }
+  if (basic_) basic_->start_autostart();  // faulhaber.md §9.1: after power on
   if (env_.wake) env_.wake();
 }
 
@@ -281,6 +375,7 @@ core::PowerOnState Device::power_on_state_for_restart() const {
 
 void Device::power_cycle() {
   const auto keep = power_on_state_for_restart();
+  if (basic_) basic_->power_cycle();
   rebuild_ram_image();
   if (refgo_) refgo_->reset();
   power_on(keep);
@@ -291,10 +386,12 @@ void Device::reset_node() {
   const auto keep = power_on_state_for_restart();
   log(LogLevel::info, "canopen: NMT reset node");
   if (observers_.powering_down) observers_.powering_down();
+  if (basic_) basic_->power_cycle();
   rebuild_ram_image();
   power_on(keep);
   leds_.power_up(led::address_of(*od_));  // drive time restarts at 0
   handle_events();
+  if (basic_) basic_->start_autostart();               // faulhaber.md §9.1: after power on and after a device reset
   if (observers_.powered_up) observers_.powered_up();  // no UDP start-up block: at once (scripting.md §3.2)
 }
 

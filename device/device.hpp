@@ -37,6 +37,7 @@
 #include "protocols/faulhaber/port.hpp"
 #include "protocols/refgo/interpreter.hpp"
 #include "protocols/slcan/config.hpp"
+#include "scripting/basic/programs.hpp"
 #include "sim/drive_steps.hpp"
 #include "trace/trace.hpp"
 
@@ -73,6 +74,11 @@ struct Environment {
   // An "mcemu: <text>" note on the UDP console (udp-debug.md §4.7); the bundle calls it only for
   // its own notes (faults, fault injections with udpEmulatorNotes on).
   std::function<void(const std::string& text)> note;
+  // Files of the drive's own part of the state directory besides the state file — the MC BASIC
+  // programs and variables (faulhaber.md §9.1, §9.8: "faulhaber/program3.bas"). Reads happen once at
+  // start-up; writes are crash-safe and in order (the persistence worker). Empty: nothing kept.
+  std::function<std::optional<std::string>(const std::string& name)> read_state_file;
+  std::function<void(const std::string& name, std::string contents)> write_state_file;
   // Every core event the hand-off drains, after the bundle has handled it (tests, fuzz oracles).
   std::function<void(const core::Event&)> event_tap;
 };
@@ -115,6 +121,14 @@ class Device {
   const refgo::Interpreter* refgo() const { return refgo_.get(); }
   CanopenBus* canopen() { return canopen_.get(); }
   faulhaber::Port* faulhaber_port() { return fh_port_.get(); }
+  // MC BASIC (faulhaber.md §9); null on a drive without it. Change programs and the autostart
+  // through the bundle's calls below, which keep them in the state directory.
+  const basic::Programs* basic() const { return basic_.get(); }
+  basic::Programs* basic() { return basic_.get(); }
+  basic::Programs::Upload upload_program(int slot, std::string_view text);
+  bool set_basic_autostart(int slot);
+  // The SAVE count since power on (AN165: the EEPROM's write cycles are limited).
+  std::uint64_t basic_saves() const { return basic_vars_ ? basic_vars_->saves() : 0; }
   const faulhaber::FaulhaberConfig& faulhaber_config() const { return fh_config_; }
   const slcan::SlcanConfig& slcan_config() const { return slcan_config_; }
 
@@ -159,7 +173,10 @@ class Device {
   void build_core();
   void build_canopen();
   void build_faulhaber();
-  void device_reset();  // FAULHABER reset node telegram: the drive part of a power cycle, then the boot message
+  void device_reset();
+  void build_basic();
+  void load_basic_files();
+  void save_basic_state();  // FAULHABER reset node telegram: the drive part of a power cycle, then the boot message
   void build_steps();
   void wire_faults();
   void apply_explicit_ip();
@@ -187,6 +204,8 @@ class Device {
   std::unique_ptr<CanopenBus> canopen_;
   faulhaber::FaulhaberConfig fh_config_;
   std::unique_ptr<faulhaber::Port> fh_port_;
+  std::unique_ptr<basic::MemoryVariables> basic_vars_;
+  std::unique_ptr<basic::Programs> basic_;
   bool fh_quiet_ = false;
   bool has_1002_ =
       true;  // the fault injections watch 1002h themselves  // a power on: its statusword changes are not notified

@@ -11,6 +11,7 @@
 #include "drive/drive_core.hpp"
 #include "protocols/faulhaber/port.hpp"
 #include "protocols/refgo/interpreter.hpp"
+#include "scripting/basic/programs.hpp"
 #include "sim/drive_steps.hpp"
 
 namespace mcemu::device {
@@ -81,6 +82,20 @@ class FaulhaberPart final : public sim::Part {
 
  private:
   faulhaber::Port& port_;
+  const core::DriveCore& core_;
+};
+
+// MC BASIC (faulhaber.md §9.9): up to N statements per 1 ms step after the drive core; quiet while
+// no program runs or the running one only waits on values that do not change.
+class BasicPart final : public sim::Part {
+ public:
+  BasicPart(basic::Programs& programs, const core::DriveCore& core) : programs_(programs), core_(core) {}
+  void step() override { programs_.step(core_.time_ms()); }
+  std::uint64_t quiet_steps() const override { return programs_.quiet_steps(); }
+  void skip(std::uint64_t n) override { programs_.skip(n); }
+
+ private:
+  basic::Programs& programs_;
   const core::DriveCore& core_;
 };
 

@@ -7,6 +7,9 @@
 #include <boost/asio/ip/address.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "persistence/atomic_file.hpp"
 #include "persistence/state_dir.hpp"
@@ -114,6 +117,29 @@ device::Environment DriveUnit::environment() {
   };
   env.wake = [this] { wake(); };
   env.note = [this](const std::string& text) { note(text); };
+  // The drive's own files beside drive-k.json (MC BASIC): "faulhaber/…" is the spec's folder for
+  // drive 1 and "faulhaber-k/…" for drive k of a fleet (docs/faulhaber.md).
+  const auto own_path = [this](const std::string& name) {
+    std::string n = name;
+    if (number_ > 1 && n.rfind("faulhaber/", 0) == 0) n.replace(0, 9, "faulhaber-" + std::to_string(number_));
+    return state_dir_->dir() / n;
+  };
+  env.read_state_file = [own_path](const std::string& name) -> std::optional<std::string> {
+    std::error_code ec;
+    const auto path = own_path(name);
+    if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (!in && !in.eof()) return std::nullopt;
+    return text.str();
+  };
+  env.write_state_file = [this, own_path](const std::string& name, std::string contents) {
+    storage_->write_file(own_path(name), std::move(contents),
+                         [prefix = log_prefix_, name](std::optional<std::string> error) {
+                           if (error) spdlog::error("{}cannot write {}: {}", prefix, name, *error);
+                         });
+  };
   return env;
 }
 

@@ -35,7 +35,7 @@ check_layer drive 'iofunc/|protocols/|web/|server/|persistence/|scripting/|sim/|
 check_layer iofunc 'protocols/|web/|server/|persistence/|scripting/|sim/|device/'
 check_layer persistence 'web/|server/|scripting/|sim/|device/|protocols/'
 check_layer sim 'web/|server/|persistence/|scripting/|device/|protocols/'
-check_layer device 'web/|server/|scripting/|protocols/[a-z]+/net/|persistence/(atomic_file|state_dir|worker_storage)'
+check_layer device 'web/|server/|scripting/[a-z_]+\.hpp|scripting/(core|runner)/|protocols/[a-z]+/net/|persistence/(atomic_file|state_dir|worker_storage)'
 check_layer web/api 'web/net/|server/|protocols/[a-z]+/net/'
 # scripting/core is the pure part of the engine: no engine process, server or web code
 check_layer scripting/core 'scripting/[a-z_]+\.hpp|server/|web/|protocols/[a-z]+/net/|device/'

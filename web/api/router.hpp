@@ -119,6 +119,16 @@ class Router {
   void program_page(const Request& request, const Respond& respond);
   void program_upload(const Request& request, const Respond& respond);
   Response code_page(int status, std::string_view error) const;
+  // handlers_faulhaber.cpp: MC BASIC programs and input levels (faulhaber.md §9.1)
+  void get_programs(const Ctx& c);
+  void get_program(const Ctx& c);
+  void put_program(const Ctx& c);
+  void post_program_start(const Ctx& c);
+  void post_basic_stop(const Ctx& c);
+  void put_basic_autostart(const Ctx& c);
+  void put_faulhaber_inputs(const Ctx& c);
+  nlohmann::json program_json(int slot) const;
+  nlohmann::json programs_json() const;
   void get_settings(const Ctx& c);
   void put_settings(const Ctx& c);
   void get_clock(const Ctx& c);
