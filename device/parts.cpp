@@ -10,13 +10,14 @@ std::uint64_t FaultsPart::quiet_steps() const {
   return e ? sim::steps_before(*e, core_.time_ms()) : sim::k_forever;
 }
 
+// The samples a quiet stretch passed are all equal (nothing changed): one run, O(1).
 void ScopePart::skip(std::uint64_t n) {
   const std::uint64_t now = core_.time_ms();  // after the core's skip
   const std::uint64_t from = now - std::min<std::uint64_t>(n, Scope::k_window_ms) + 1;
-  for (std::uint64_t t = (from + Scope::k_sample_ms - 1) / Scope::k_sample_ms * Scope::k_sample_ms; t <= now;
-       t += Scope::k_sample_ms) {
-    scope_.on_step(t, od_);
-  }
+  const std::uint64_t first = (from + Scope::k_sample_ms - 1) / Scope::k_sample_ms * Scope::k_sample_ms;
+  if (first > now) return;
+  const std::uint64_t count = (now - first) / Scope::k_sample_ms + 1;
+  scope_.add_run(first, count, Scope::sample_of(od_));
 }
 
 std::uint64_t RefgoPart::quiet_steps() const {

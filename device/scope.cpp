@@ -15,50 +15,79 @@ std::int32_t read32(const od::ObjectDictionary& od, std::uint16_t index, std::ui
 }
 }  // namespace
 
-void Scope::on_step(std::uint64_t time_ms, const od::ObjectDictionary& od) {
-  if (time_ms % k_sample_ms != 0) return;
-  if (!ring_.empty() && time_ms == time_of(ring_.size() - 1)) return;  // already sampled
+ScopeSample Scope::sample_of(const od::ObjectDictionary& od) {
   ScopeSample s;
   s.pos = read32(od, 0x6064, 0);
   s.vel = read32(od, 0x606C, 0);
   s.cur = read32(od, 0x6078, 0);
   s.target = read32(od, 0x607A, 0);
   s.sw = static_cast<std::uint16_t>(read32(od, 0x6041, 0));
-  add(time_ms, s);
+  return s;
 }
 
-void Scope::add(std::uint64_t time_ms, const ScopeSample& s) {
-  const bool contiguous = !ring_.empty() && time_ms == time_of(ring_.size() - 1) + k_sample_ms;
+void Scope::on_step(std::uint64_t time_ms, const od::ObjectDictionary& od) {
+  if (time_ms % k_sample_ms != 0) return;
+  if (total_ > 0 && time_ms == time_of(total_ - 1)) return;  // already sampled
+  add(time_ms, sample_of(od));
+}
+
+void Scope::add_run(std::uint64_t time_ms, std::uint64_t count, const ScopeSample& s) {
+  if (count == 0) return;
+  if (count > k_capacity) {  // only the last 60 s stay
+    time_ms += (count - k_capacity) * k_sample_ms;
+    count = k_capacity;
+  }
+  const bool contiguous = total_ > 0 && time_ms == time_of(total_ - 1) + k_sample_ms;
   if (!contiguous) {
     // A new start: the first sample, a gap, or time going backwards (power cycle).
     ring_.clear();
+    total_ = 0;
     first_ms_ = time_ms;
     if (time_ms < next_new_ms_) next_new_ms_ = time_ms;
   }
-  ring_.push_back(s);
-  if (ring_.size() > k_capacity) {
-    ring_.pop_front();
-    first_ms_ += k_sample_ms;
+  if (!ring_.empty() && ring_.back().sample == s) {
+    ring_.back().count += count;
+  } else {
+    ring_.push_back(Run{s, count});
+  }
+  total_ += static_cast<std::size_t>(count);
+  while (total_ > k_capacity) {
+    Run& front = ring_.front();
+    const std::size_t drop = std::min<std::size_t>(front.count, total_ - k_capacity);
+    front.count -= drop;
+    total_ -= drop;
+    first_ms_ += drop * k_sample_ms;
+    if (front.count == 0) ring_.pop_front();
   }
 }
 
 ScopeBlock Scope::block_from(std::size_t first) const {
   ScopeBlock b;
   b.sample_ms = k_sample_ms;
-  b.t0 = ring_.empty() ? 0 : time_of(first);  // an empty block: the time of the next sample
-  for (std::size_t i = first; i < ring_.size(); ++i) b.samples.push_back(ring_[i]);
+  b.t0 = total_ == 0 ? 0 : time_of(first);  // an empty block: the time of the next sample
+  if (first >= total_) return b;
+  b.samples.reserve(total_ - first);
+  std::size_t skip = first;
+  for (const auto& run : ring_) {
+    if (skip >= run.count) {
+      skip -= run.count;
+      continue;
+    }
+    b.samples.insert(b.samples.end(), run.count - skip, run.sample);
+    skip = 0;
+  }
   return b;
 }
 
 ScopeBlock Scope::since_ms(std::uint64_t t) const {
-  if (ring_.empty() || t <= first_ms_) return block_from(0);
+  if (total_ == 0 || t <= first_ms_) return block_from(0);
   const std::uint64_t offset = (t - first_ms_ + k_sample_ms - 1) / k_sample_ms;
-  return block_from(static_cast<std::size_t>(std::min<std::uint64_t>(offset, ring_.size())));
+  return block_from(static_cast<std::size_t>(std::min<std::uint64_t>(offset, total_)));
 }
 
 ScopeBlock Scope::take_new() {
   ScopeBlock b = since_ms(next_new_ms_);
-  if (!ring_.empty()) next_new_ms_ = time_of(ring_.size() - 1) + k_sample_ms;
+  if (total_ > 0) next_new_ms_ = time_of(total_ - 1) + k_sample_ms;
   return b;
 }
 

@@ -26,6 +26,7 @@ struct ScopeSample {
   std::int32_t cur = 0;
   std::int32_t target = 0;
   std::uint16_t sw = 0;
+  bool operator==(const ScopeSample&) const = default;
 };
 
 struct ScopeBlock {
@@ -43,20 +44,30 @@ class Scope {
   // After every drive step: samples the objects when time_ms is a multiple of k_sample_ms.
   void on_step(std::uint64_t time_ms, const od::ObjectDictionary& od);
   // One sample at time_ms (tests; on_step() reads the objects and calls this).
-  void add(std::uint64_t time_ms, const ScopeSample& s);
+  void add(std::uint64_t time_ms, const ScopeSample& s) { add_run(time_ms, 1, s); }
+  // `count` equal samples from time_ms on, every k_sample_ms: what a quiet stretch of the drive
+  // leaves (the objects do not change). O(1): the ring keeps runs of equal samples.
+  void add_run(std::uint64_t time_ms, std::uint64_t count, const ScopeSample& s);
+  // The objects' sample now (what on_step() would add).
+  static ScopeSample sample_of(const od::ObjectDictionary& od);
 
   // Samples from the first sample time ≥ t (at most the ring, 60 s).
   ScopeBlock since_ms(std::uint64_t t) const;
   // Samples added since the previous call (all of the ring on the first call).
   ScopeBlock take_new();
 
-  std::size_t size() const { return ring_.size(); }
+  std::size_t size() const { return total_; }
 
  private:
+  struct Run {
+    ScopeSample sample;
+    std::uint64_t count = 0;
+  };
   ScopeBlock block_from(std::size_t first) const;
   std::uint64_t time_of(std::size_t i) const { return first_ms_ + i * k_sample_ms; }
 
-  std::deque<ScopeSample> ring_;
+  std::deque<Run> ring_;  // runs of equal samples, oldest first; total_ samples in all
+  std::size_t total_ = 0;
   std::uint64_t first_ms_ = 0;     // time of ring_[0]
   std::uint64_t next_new_ms_ = 0;  // first sample time take_new() has not returned
 };

@@ -37,6 +37,34 @@ TEST(Scope, SinceMsStartsAtTheFirstSampleTimeAtOrAfterT) {
   }
 }
 
+// A quiet stretch adds its equal samples as one run (issue 26: an idle fleet woken after an hour
+// must not push 12 000 samples per drive); what is read back is the same as sample by sample.
+TEST(Scope, RunOfEqualSamplesReadsLikeSingleSamples) {
+  struct Case {
+    std::uint64_t before, run;  // samples added one by one, then as one run of equal samples
+  };
+  for (const auto& c : {Case{0, 1}, Case{3, 10}, Case{100, Scope::k_capacity}, Case{20, Scope::k_capacity + 7},
+                        Case{Scope::k_capacity, 5}, Case{Scope::k_capacity - 1, 3 * Scope::k_capacity}}) {
+    Scope one;
+    Scope run;
+    std::uint64_t t = 1000;
+    for (std::uint64_t i = 0; i < c.before; ++i, t += 5) {
+      one.add(t, sample(static_cast<std::int32_t>(i)));
+      run.add(t, sample(static_cast<std::int32_t>(i)));
+    }
+    run.add_run(t, c.run, sample(-7));
+    for (std::uint64_t i = 0; i < c.run; ++i, t += 5) one.add(t, sample(-7));
+    EXPECT_EQ(run.size(), one.size()) << c.before << "+" << c.run;
+    for (std::uint64_t since : {std::uint64_t{0}, std::uint64_t{1000}, t - 300, t - 5, t}) {
+      const auto a = one.since_ms(since);
+      const auto b = run.since_ms(since);
+      EXPECT_EQ(a.t0, b.t0) << since;
+      EXPECT_EQ(a.samples, b.samples) << since;
+    }
+    EXPECT_EQ(run.take_new().samples, one.take_new().samples);
+  }
+}
+
 TEST(Scope, RingHoldsSixtySeconds) {
   Scope s;
   for (std::uint64_t t = 0; t <= 70000; t += 5) s.add(t, sample(static_cast<std::int32_t>(t)));
