@@ -173,6 +173,29 @@ TEST(StatusSnapshot, SeqCountsEverySnapshot) {
   EXPECT_EQ(f.status()["seq"], first + 2);
 }
 
+// Issue 26: the body is built once per change and shared; every snapshot still has the next seq.
+TEST(StatusSnapshot, BodyIsBuiltOnlyWhenSomethingItShowsChanged) {
+  ApiFixture f;
+  f.step(3);
+  StatusSnapshots snapshots;
+  const auto a = json::parse(snapshots.build(f.r().status_inputs()));
+  const auto b = json::parse(snapshots.build(f.r().status_inputs()));
+  EXPECT_EQ(snapshots.bodies_built(), 1u) << "nothing changed in between";
+  EXPECT_EQ(b["seq"], a["seq"].get<std::uint64_t>() + 1);
+  auto without_seq = [](json j) {
+    j.erase("seq");
+    return j;
+  };
+  EXPECT_EQ(without_seq(a), without_seq(b));
+  f.step();  // drive time moves
+  const auto c = json::parse(snapshots.build(f.r().status_inputs()));
+  EXPECT_EQ(snapshots.bodies_built(), 2u);
+  EXPECT_EQ(c["timeMs"], a["timeMs"].get<std::uint64_t>() + 1);
+  ASSERT_EQ(f.refgo("OW6083,0,1234")["ok"], true);  // a value changes, drive time does not
+  (void)snapshots.build(f.r().status_inputs());
+  EXPECT_EQ(snapshots.bodies_built(), 3u);
+}
+
 TEST(StatusSnapshot, FollowsTheDriveThroughRefGo) {
   ApiFixture f;
   f.step(10);

@@ -188,4 +188,27 @@ std::string status_json(const StatusInputs& in, std::uint64_t seq) {
   return dump_json(j);
 }
 
+std::string StatusSnapshots::build(const StatusInputs& in) {
+  const Key key{
+      in.od.generation(), in.time_ms,       in.state, in.velocity_inc_s,    in.temperature_available, in.python,
+      in.refgo,           in.udp_listeners, in.led,   str(in.od, 0x3500, 1)};
+  if (!key_ || !(*key_ == key)) {
+    // The body with a seq no snapshot has, split around it: a later snapshot only splices its seq in.
+    constexpr std::uint64_t k_marker = 0xFFFFFFFFFFFFFFFFULL;
+    const std::string text = status_json(in, k_marker);
+    const std::string marker = "\"seq\":" + std::to_string(k_marker);
+    const auto at = text.find(marker);
+    before_seq_ = text.substr(0, at + marker.size() - std::to_string(k_marker).size());
+    after_seq_ = text.substr(at + marker.size());
+    key_ = key;
+    ++built_;
+  }
+  std::string out;
+  out.reserve(before_seq_.size() + after_seq_.size() + 20);
+  out += before_seq_;
+  out += std::to_string(++seq_);
+  out += after_seq_;
+  return out;
+}
+
 }  // namespace mcemu::web::api

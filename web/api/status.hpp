@@ -64,6 +64,7 @@ std::string_view state_abbreviation(core::PdsState s);
 struct PythonStatus {
   std::string state = "OFF";  // OFF, RUN, BRK (scripting.md §3)
   int line = 0;
+  bool operator==(const PythonStatus&) const = default;
 };
 struct RefgoStatus {
   int clients = 0;
@@ -72,10 +73,12 @@ struct RefgoStatus {
   std::uint32_t wait_time_ms = 0;
   bool back_and_forth = false;
   std::optional<std::uint64_t> jog_timer_ms;  // time left until the timed jog stops
+  bool operator==(const RefgoStatus&) const = default;
 };
 struct LedStatus {
   bool green = false;
   bool yellow = false;
+  bool operator==(const LedStatus&) const = default;
 };
 
 struct StatusInputs {
@@ -93,14 +96,35 @@ struct StatusInputs {
 // The snapshot object without "type" (the WebSocket adds "type": "status").
 std::string status_json(const StatusInputs& in, std::uint64_t seq);
 
+// Every snapshot has the next seq (web.md §8.2), but its body is built only when something it
+// shows changed since the last one — a value of the dictionary (its generation), drive time, the
+// state, or one of the inputs from outside the dictionary — and shared by every request and
+// WebSocket subscriber until then (issue 26: status at the speed of the socket).
 class StatusSnapshots {
  public:
-  // Builds the next snapshot (seq + 1).
-  std::string build(const StatusInputs& in) { return status_json(in, ++seq_); }
+  std::string build(const StatusInputs& in);
   std::uint64_t last_seq() const { return seq_; }
+  std::uint64_t bodies_built() const { return built_; }  // how often the body was built (tests)
 
  private:
+  struct Key {
+    std::uint64_t generation = 0;
+    std::uint64_t time_ms = 0;
+    core::PdsState state = core::PdsState::not_ready_to_switch_on;
+    double velocity_inc_s = 0;
+    bool temperature_available = true;
+    PythonStatus python{};
+    RefgoStatus refgo{};
+    int udp_listeners = 0;
+    LedStatus led{};
+    std::string script_id;  // 3500h.01 is a read hook (the engine's script), no stored value
+    bool operator==(const Key&) const = default;
+  };
   std::uint64_t seq_ = 0;
+  std::uint64_t built_ = 0;
+  std::optional<Key> key_;
+  std::string before_seq_;  // the body up to the seq value
+  std::string after_seq_;   // the body after it
 };
 
 }  // namespace mcemu::web::api
