@@ -43,10 +43,24 @@ Result<Value> convert_for_write(const EntryInfo& info, const Value& v) {
   return n > r.max ? AbortCode::value_too_high : AbortCode::value_too_low;
 }
 
+void sort_entries(std::vector<EntryInfo>& entries) {
+  // (index, sub, position) packed in one integer: a plain integer sort, stable by position.
+  std::vector<std::uint64_t> order(entries.size());
+  bool sorted = true;
+  for (std::uint32_t i = 0; i < order.size(); ++i) {
+    order[i] = (std::uint64_t{entries[i].index} << 40) | (std::uint64_t{entries[i].sub} << 32) | i;
+    if (i > 0 && (order[i] >> 32) < (order[i - 1] >> 32)) sorted = false;
+  }
+  if (sorted) return;
+  std::sort(order.begin(), order.end());
+  std::vector<EntryInfo> out;
+  out.reserve(entries.size());
+  for (const auto key : order) out.push_back(std::move(entries[static_cast<std::uint32_t>(key)]));
+  entries.swap(out);
+}
+
 ObjectDictionary::ObjectDictionary(std::vector<EntryInfo> entries) {
-  std::sort(entries.begin(), entries.end(), [](const EntryInfo& a, const EntryInfo& b) {
-    return a.index != b.index ? a.index < b.index : a.sub < b.sub;
-  });
+  sort_entries(entries);  // the builders sort already: then this is one pass (issue 26)
   entries_.reserve(entries.size());
   for (auto& info : entries) {
     Value v = info.factory;

@@ -1,5 +1,6 @@
 #include "drive/od/faulhaber_table.hpp"
 
+#include <array>
 #include <set>
 #include <string>
 
@@ -16,10 +17,10 @@ constexpr std::uint8_t k_record = 9;
 
 struct Builder {
   std::vector<EntryInfo> out;
-  std::string object;  // name of the object being added
+  std::string_view object;  // name of the object being added
   std::uint8_t code = k_var;
 
-  EntryInfo& add(std::uint16_t index, std::uint8_t sub, T type, A access, C cls, std::string name, Value factory,
+  EntryInfo& add(std::uint16_t index, std::uint8_t sub, T type, A access, C cls, std::string_view name, Value factory,
                  PdoFlag pdo = PdoFlag::no) {
     EntryInfo e;
     e.index = index;
@@ -30,22 +31,22 @@ struct Builder {
     e.pdo = pdo;
     e.cls = cls;
     e.object_name = code == k_var ? name : object;
-    e.name = std::move(name);
+    e.name = name;
     e.factory = std::move(factory);
     e.from_xdd = false;
     out.push_back(std::move(e));
     return out.back();
   }
   // A VAR object at sub-index 0.
-  EntryInfo& var(std::uint16_t index, T type, A access, C cls, std::string name, std::int64_t factory,
+  EntryInfo& var(std::uint16_t index, T type, A access, C cls, std::string_view name, std::int64_t factory,
                  PdoFlag pdo = PdoFlag::no) {
     code = k_var;
-    return add(index, 0, type, access, cls, std::move(name), Value{factory}, pdo);
+    return add(index, 0, type, access, cls, name, Value{factory}, pdo);
   }
   // Starts an ARRAY or RECORD: sub-index 0 = highest sub-index, const.
-  void begin(std::uint16_t index, std::uint8_t object_code, std::string name, std::int64_t highest) {
+  void begin(std::uint16_t index, std::uint8_t object_code, std::string_view name, std::int64_t highest) {
     code = object_code;
-    object = std::move(name);
+    object = name;
     add(index, 0, T::unsigned8, A::ro, C::const_, "Highest Sub-index", Value{highest});
   }
 };
@@ -88,6 +89,13 @@ void cia301(Builder& b, const model::ModelPreset& p) {
   b.add(0x1018, 4, T::unsigned32, A::ro, C::const_, "Serial Number", Value{std::int64_t{id.serial}});
 }
 
+// 3005h.01…1A (faulhaber.md §8): names with the storage of the process (EntryInfo names are views).
+constexpr std::array<const char*, 26> k_variable_names = {
+    "Variable a", "Variable b", "Variable c", "Variable d", "Variable e", "Variable f", "Variable g",
+    "Variable h", "Variable i", "Variable j", "Variable k", "Variable l", "Variable m", "Variable n",
+    "Variable o", "Variable p", "Variable q", "Variable r", "Variable s", "Variable t", "Variable u",
+    "Variable v", "Variable w", "Variable x", "Variable y", "Variable z"};
+
 void faulhaber_objects(Builder& b) {
   b.begin(0x2310, k_record, "Digital Input Settings", 0x11);
   b.add(0x2310, 0x01, T::unsigned8, A::rw, C::param, "Negative Limit Switch", Value{0});
@@ -116,7 +124,7 @@ void faulhaber_objects(Builder& b) {
   b.begin(0x3005, k_array, "Program Variables", 26);
   b.out.back().name = "Number of Variables";
   for (std::uint8_t s = 1; s <= 26; ++s) {
-    b.add(0x3005, s, T::integer32, A::rw, C::proc, std::string("Variable ") + static_cast<char>('a' + s - 1), Value{0});
+    b.add(0x3005, s, T::integer32, A::rw, C::proc, k_variable_names[s - 1], Value{0});
   }
 }
 

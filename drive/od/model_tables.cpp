@@ -3,6 +3,7 @@
 #include "drive/od/model_tables.hpp"
 
 #include <algorithm>
+#include <array>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -52,15 +53,15 @@ EntryInfo from_xdd(const tables::XddEntry& x) {
 }
 
 EntryInfo extra(std::uint16_t index, std::uint8_t sub, std::uint8_t code, DataType type, Access access,
-                std::string name, std::string object_name, Value factory) {
+                std::string_view name, std::string_view object_name, Value factory) {
   EntryInfo e;
   e.index = index;
   e.sub = sub;
   e.object_code = code;
   e.type = type;
   e.access = access;
-  e.name = std::move(name);
-  e.object_name = std::move(object_name);
+  e.name = name;
+  e.object_name = object_name;
   e.factory = std::move(factory);
   e.from_xdd = false;
   return e;
@@ -68,9 +69,27 @@ EntryInfo extra(std::uint16_t index, std::uint8_t sub, std::uint8_t code, DataTy
 
 Value num(std::int64_t v) { return Value{v}; }
 
-void add_record_head(std::vector<EntryInfo>& out, std::uint16_t index, std::int64_t highest, std::string obj) {
-  out.push_back(extra(index, 0, 9, DataType::unsigned8, Access::ro, "NrOfObjects", std::move(obj), num(highest)));
+void add_record_head(std::vector<EntryInfo>& out, std::uint16_t index, std::int64_t highest, std::string_view obj) {
+  out.push_back(extra(index, 0, 9, DataType::unsigned8, Access::ro, "NrOfObjects", obj, num(highest)));
 }
+
+// "Python unsigned8 1" … "Python integer32 10": the names of the generated 340Bh–3410h entries,
+// built once for the process (EntryInfo names are views).
+std::string_view python_param_name(std::size_t type, std::uint8_t sub) {
+  static const auto names = [] {
+    constexpr std::array<const char*, 6> k_types = {"unsigned8", "integer8",   "unsigned16",
+                                                    "integer16", "unsigned32", "integer32"};
+    std::array<std::array<std::string, 10>, 6> n;
+    for (std::size_t t = 0; t < 6; ++t) {
+      for (std::size_t s = 0; s < 10; ++s) n[t][s] = std::string("Python ") + k_types[t] + " " + std::to_string(s + 1);
+    }
+    return n;
+  }();
+  return names[type][sub - 1];
+}
+
+constexpr std::array<const char*, 4> k_ip_names = {"ip address 1", "ip address 2", "ip address 3", "ip address 4"};
+constexpr std::array<const char*, 4> k_mask_names = {"mask 1", "mask 2", "mask 3", "mask 4"};
 
 void add_extras(std::vector<EntryInfo>& out, const model::ModelPreset& p) {
   const auto has = [&](std::uint16_t i) {
@@ -81,7 +100,7 @@ void add_extras(std::vector<EntryInfo>& out, const model::ModelPreset& p) {
   };
   // 1400h RPDO1 communication (missing from the MC349 XDD).
   if (!has(0x1400)) {
-    const std::string o = "1. receive PDO parameter";
+    const std::string_view o = "1. receive PDO parameter";
     out.push_back(extra(0x1400, 0, 9, DataType::unsigned8, Access::ro, "largest subindex supported", o, num(3)));
     out.push_back(
         extra(0x1400, 1, 9, DataType::unsigned32, Access::rw, "COB-Id used", o, num(0x200 + k_factory_node_id)));
@@ -94,15 +113,16 @@ void add_extras(std::vector<EntryInfo>& out, const model::ModelPreset& p) {
     DataType type;
     const char* name;
   };
+  std::size_t type_no = 0;
   for (const Py& py :
        {Py{0x340B, DataType::unsigned8, "Python unsigned8"}, Py{0x340C, DataType::integer8, "Python integer8"},
         Py{0x340D, DataType::unsigned16, "Python unsigned16"}, Py{0x340E, DataType::integer16, "Python integer16"},
         Py{0x340F, DataType::unsigned32, "Python unsigned32"}, Py{0x3410, DataType::integer32, "Python integer32"}}) {
+    const std::size_t t = type_no++;
     if (has(py.index)) continue;
     add_record_head(out, py.index, 10, py.name);
     for (std::uint8_t s = 1; s <= 10; ++s) {
-      out.push_back(
-          extra(py.index, s, 9, py.type, Access::rw, std::string(py.name) + " " + std::to_string(s), py.name, num(0)));
+      out.push_back(extra(py.index, s, 9, py.type, Access::rw, python_param_name(t, s), py.name, num(0)));
     }
   }
   // 3500h Python (missing from MC6xx) and .03–.06 on every model.
@@ -123,7 +143,7 @@ void add_extras(std::vector<EntryInfo>& out, const model::ModelPreset& p) {
       extra(0x3510, 1, 9, DataType::unsigned32, Access::rw, "Virtual inputs", "MovingCap IO simulation", num(0)));
   out.push_back(extra(0x3510, 2, 9, DataType::unsigned16, Access::rw, "Input function command",
                       "MovingCap IO simulation", num(0)));
-  const std::string nvm = "NVM statistics";
+  const std::string_view nvm = "NVM statistics";
   add_record_head(out, 0x5006, 5, nvm);
   out.push_back(extra(0x5006, 1, 9, DataType::unsigned8, Access::ro, "MEM lastSharedMemAccess Status", nvm, num(1)));
   out.push_back(extra(0x5006, 2, 9, DataType::unsigned8, Access::ro, "MEM lastSharedMemBankUsed", nvm, num(1)));
@@ -134,32 +154,32 @@ void add_extras(std::vector<EntryInfo>& out, const model::ModelPreset& p) {
   if (!has(0x5007)) {
     add_record_head(out, 0x5007, 4, "ip address");
     for (std::uint8_t s = 1; s <= 4; ++s) {
-      out.push_back(extra(0x5007, s, 9, DataType::unsigned8, s == 1 ? Access::ro : Access::rw,
-                          "ip address " + std::to_string(s), "ip address", num(0)));
+      out.push_back(extra(0x5007, s, 9, DataType::unsigned8, s == 1 ? Access::ro : Access::rw, k_ip_names[s - 1],
+                          "ip address", num(0)));
     }
   }
   if (!has(0x5008)) {
     add_record_head(out, 0x5008, 4, "subnet mask");
     for (std::uint8_t s = 1; s <= 4; ++s) {
-      out.push_back(extra(0x5008, s, 9, DataType::unsigned8, s == 1 ? Access::ro : Access::rw,
-                          "mask " + std::to_string(s), "subnet mask", num(0)));
+      out.push_back(extra(0x5008, s, 9, DataType::unsigned8, s == 1 ? Access::ro : Access::rw, k_mask_names[s - 1],
+                          "subnet mask", num(0)));
     }
   }
   // 6062h position demand value (every model); 60B8h touch probe function (standard models).
   out.push_back(
       extra(0x6062, 0, 7, DataType::integer32, Access::ro, "Position demand value", "Position demand value", num(0)));
   if (!p.is_rabbit() && !has(0x60B8)) {
-    const std::string n = "Touch probe function";
+    const std::string_view n = "Touch probe function";
     out.push_back(extra(0x60B8, 0, 7, DataType::unsigned16, Access::rw, n, n, num(0)));
   }
   // 3300h/3301h RABBIT motor and control parameters.
   if (p.base == Base::mcflat) {
-    const std::string m = "RABBIT motor parameters";
+    const std::string_view m = "RABBIT motor parameters";
     add_record_head(out, 0x3300, 7, m);
     out.push_back(extra(0x3300, 0x04, 9, DataType::unsigned16, Access::rw, "motor_imbalance_amplitude", m, num(0)));
     out.push_back(extra(0x3300, 0x05, 9, DataType::integer16, Access::rw, "motor_imbalance_angle", m, num(0)));
     out.push_back(extra(0x3300, 0x07, 9, DataType::integer16, Access::rw, "motor_weight", m, num(0)));
-    const std::string c = "RABBIT control parameters";
+    const std::string_view c = "RABBIT control parameters";
     add_record_head(out, 0x3301, 15, c);
     out.push_back(extra(0x3301, 0x01, 9, DataType::unsigned16, Access::rw, "control_mode", c, num(1)));
     out.push_back(extra(0x3301, 0x04, 9, DataType::unsigned16, Access::rw, "mass_payload", c, num(0)));
@@ -171,7 +191,7 @@ void add_extras(std::vector<EntryInfo>& out, const model::ModelPreset& p) {
   }
   // 3401h.1F–.25 absolute-encoder diagnostics (MC349_AE).
   if (p.ae_extras && !has_entry(0x3401, 0x1F)) {
-    const std::string g = "Gateway control parameters";
+    const std::string_view g = "Gateway control parameters";
     out.push_back(extra(0x3401, 0x1F, 9, DataType::integer16, Access::ro, "external multiturn pos", g, num(0)));
     out.push_back(extra(0x3401, 0x20, 9, DataType::unsigned16, Access::ro, "external singleturn pos", g, num(0)));
     out.push_back(extra(0x3401, 0x21, 9, DataType::unsigned32, Access::ro, "SPI errors", g, num(0)));
@@ -316,13 +336,13 @@ void apply_limits(EntryInfo& e, const model::ModelPreset& p) {
 
 // ---- §7 factory values -------------------------------------------------------------------------
 
+// `entries` sorted by (index, sub) (sort_entries).
 void set_factory(std::vector<EntryInfo>& entries, std::uint16_t index, std::uint8_t sub, Value v) {
-  for (auto& e : entries) {
-    if (e.index == index && e.sub == sub) {
-      e.factory = std::move(v);
-      return;
-    }
-  }
+  const auto it = std::lower_bound(entries.begin(), entries.end(), std::pair{index, sub},
+                                   [](const EntryInfo& e, const std::pair<std::uint16_t, std::uint8_t>& k) {
+                                     return e.index != k.first ? e.index < k.first : e.sub < k.second;
+                                   });
+  if (it != entries.end() && it->index == index && it->sub == sub) it->factory = std::move(v);
 }
 
 void apply_factory(std::vector<EntryInfo>& out, const model::ModelPreset& p) {
@@ -416,8 +436,11 @@ std::span<const tables::XddEntry> xdd_table(model::Base base) {
 std::vector<EntryInfo> build_entries(const model::ModelPreset& preset) {
   if (preset.is_faulhaber()) return build_faulhaber_entries(preset);
   std::vector<EntryInfo> out;
-  for (const auto& x : xdd_table(preset.base)) out.push_back(from_xdd(x));
+  const auto table = xdd_table(preset.base);
+  out.reserve(table.size() + 160);  // the XDD's entries and mcemu's additions, without regrowth
+  for (const auto& x : table) out.push_back(from_xdd(x));
   add_extras(out, preset);
+  sort_entries(out);
   for (auto& e : out) {
     e.cls = class_of(e, preset.base);
     apply_limits(e, preset);

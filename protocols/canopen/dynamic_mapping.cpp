@@ -1,6 +1,7 @@
 #include "protocols/canopen/dynamic_mapping.hpp"
 
 #include <algorithm>
+#include <array>
 #include <set>
 
 #include "protocols/canopen/od_access.hpp"
@@ -52,6 +53,11 @@ bool pdo_valid(const od::ObjectDictionary& od, std::uint16_t map_index) {
 
 }  // namespace
 
+// "mapping entry 0" … "8": names of generated entries have the process's storage (names are views).
+constexpr std::array<const char*, 9> k_mapping_names = {"mapping entry 0", "mapping entry 1", "mapping entry 2",
+                                                        "mapping entry 3", "mapping entry 4", "mapping entry 5",
+                                                        "mapping entry 6", "mapping entry 7", "mapping entry 8"};
+
 void make_mapping_dynamic(std::vector<od::EntryInfo>& entries) {
   for (std::uint16_t base : {k_rpdo_map, k_tpdo_map}) {
     for (std::uint16_t index = base; index < base + 4; ++index) {
@@ -66,7 +72,7 @@ void make_mapping_dynamic(std::vector<od::EntryInfo>& entries) {
           od::EntryInfo e = proto;
           e.sub = sub;
           e.type = od::DataType::unsigned32;
-          e.name = "mapping entry " + std::to_string(sub);
+          e.name = k_mapping_names[sub];
           e.factory = od::Value{std::int64_t{0}};
           e.from_xdd = false;
           entries.push_back(std::move(e));

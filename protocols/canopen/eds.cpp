@@ -33,8 +33,8 @@ std::string one_line(const std::string& s) {
 }
 
 // A parameter name: python-canopen reads EDS files with ';' as inline comment start.
-std::string name_text(const std::string& s) {
-  std::string out = one_line(s);
+std::string name_text(std::string_view s) {
+  std::string out = one_line(std::string(s));
   for (char& c : out) c = c == ';' ? ',' : c;
   return out;
 }

@@ -105,7 +105,7 @@ inline void check_dictionary(const od::ObjectDictionary& od) {
   od.for_each([](const od::EntryInfo& info, const od::Value& v) {
     const auto converted = od::convert_for_write(info, v);
     if (!converted) {
-      fail("entry " + std::to_string(info.index) + "." + std::to_string(info.sub) + " (" + info.name +
+      fail("entry " + std::to_string(info.index) + "." + std::to_string(info.sub) + " (" + std::string(info.name) +
            ") holds a value its type refuses");
     }
   });
