@@ -142,12 +142,14 @@ test('MC BASIC: a load error marks its line, Example B runs in drive time, varia
   const lines = new Set();
   const zs = new Set();
   for (let i = 0; i < 8; i++) {
+    const t0 = (await status()).timeMs;
     await page.locator('#fh-clock-100').click();
+    // the manual clock stands still once the advance is done: the page must then show its line
     const s = await waitFor(async () => {
       const st = await status();
-      const shown = await text(page, '#fh-basic-running');
-      return shown === `program 2, line ${st.basic.line}` && st;
-    }, { what: 'the page shows the running line of the status' });
+      return st.timeMs === t0 + 100 && st;
+    }, { what: `drive time ${t0 + 100}` });
+    await waitFor(async () => (await text(page, '#fh-basic-running')) === `program 2, line ${s.basic.line}`, { what: `running line ${s.basic.line} shown` });
     lines.add(s.basic.line);
     const [y, z] = await Promise.all([object('3005', '19'), object('3005', '1A')]);
     await waitFor(async () => (await page.locator('#fh-var-y').inputValue()) === String(y) && (await page.locator('#fh-var-z').inputValue()) === String(z), { what: `y = ${y}, z = ${z} on the page` });
@@ -199,6 +201,7 @@ test('fault: the LED turns red with the error in words; Fault Reset; power cycle
   const g = await openPage(browser, emu, '/emulator.html');
   const { page } = g;
   await page.locator('#fh-fault-stroke').click();
+  await waitFor(async () => (await emu.get('/api/v1/faults')).faults.length === 1, { what: 'the stroke injection' });
   await page.locator('#fh-clock-100').click();
   await waitFor(async () => (await status()).state === 'F', { what: 'Fault' });
   await waitFor(async () => (await page.locator('#led-status').getAttribute('data-color')) === 'red', { what: 'red LED' });
@@ -215,6 +218,7 @@ test('fault: the LED turns red with the error in words; Fault Reset; power cycle
   await page.locator('#fh-remove-all').click();
   await waitFor(async () => (await emu.get('/api/v1/faults')).faults.length === 0, { what: 'injection removed' });
   await page.locator('#fh-faultreset').click();
+  await waitFor(async () => (await text(page, '#fh-faultreset-result')) === 'controlword bit 7: 0 → 1', { what: 'fault reset written' });
   await page.locator('#fh-clock-1').click();
   await waitFor(async () => (await status()).state !== 'F', { what: 'fault reset' });
   await waitFor(async () => (await page.locator('#led-status').getAttribute('data-color')) === 'green', { what: 'green again' });
