@@ -180,6 +180,9 @@ void Router::post_objects_read(const Ctx& c) {
 }
 
 void Router::post_refgo(const Ctx& c) {
+  if (!device_.refgo()) {  // a FAULHABER MC has no RefGo (faulhaber.md §1)
+    return c.respond(error_json(503, "unavailable", "this drive has no RefGo interpreter"));
+  }
   const auto body = json_object_body(c.req);
   if (!body || !body->contains("line") || !(*body)["line"].is_string()) {
     return c.respond(bad("expected {\"line\": \"<one RefGo line>\"}"));

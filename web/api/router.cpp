@@ -1,6 +1,8 @@
 #include "web/api/router.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <exception>
 
 #include "protocols/refgo/interpreter.hpp"
@@ -49,6 +51,29 @@ const Answer k_415{415, "POST without Content-Type: application/json"};
 const Answer k_503{503, "not available in this version or this configuration"};
 const Answer k_201{201, "created"};
 const Answer k_503_engine{503, "no script engine in this build"};
+
+// web/README.md "FAULHABER drive": a drive without the MovingCap pages (faulhaber.md §1) serves its
+// own Emulator page, the template /faulhaber.html, at /emulator.html; `/` and the MovingCap pages
+// redirect there. A MovingCap does not serve that template.
+constexpr std::string_view k_fh_emulator_template = "/faulhaber.html";
+constexpr std::array<std::string_view, 9> k_movingcap_pages{
+    "/",           "/index.html",   "/clickrun.html", "/servo.html",  "/ioin.html",
+    "/ioout.html", "/command.html", "/program.html",  "/network.html"};
+
+bool is_movingcap_page(std::string_view path) {
+  return std::find(k_movingcap_pages.begin(), k_movingcap_pages.end(), path) != k_movingcap_pages.end();
+}
+
+Response redirect_to(std::string_view location) {
+  Response r;
+  r.status = 302;
+  r.content_type = "text/html; charset=utf-8";
+  r.body = "<!DOCTYPE html><html><head><title>302 Found</title></head><body><p>This drive's page is <a href=\"" +
+           std::string(location) + "\">" + std::string(location) + "</a>.</p></body></html>\n";
+  r.headers.emplace_back("Location", std::string(location));
+  r.headers.emplace_back("Cache-Control", "no-store");
+  return r;
+}
 
 const std::vector<QueryParam> k_trace_query{
     {"since", "integer", "first sequence number wanted (default 0)"},
@@ -103,7 +128,7 @@ const std::vector<Router::Route>& Router::routes() {
         "application/json",
         k_refgo_body,
         "application/json",
-        {k_400, k_415}},
+        {k_400, k_415, k_503}},
        &Router::post_refgo},
       {{M::get, "/api/v1/io", "Effective, physical and virtual inputs and the outputs (web.md §8.5)"}, &Router::get_io},
       {{M::put,
@@ -456,6 +481,20 @@ void Router::page(const Request& request, const Respond& answer) {
     r.headers.emplace_back("Cache-Control", "no-store");
     return respond(std::move(r));
   }
+  if (!device_.personality().drive_pages) {
+    const bool read = request.method == "GET" || request.method == "HEAD";
+    if (path == "/emulator.html") {
+      Request tmpl = request;
+      tmpl.target = std::string(k_fh_emulator_template);
+      if (auto asset = serve_asset(tmpl)) return respond(std::move(*asset));
+    }
+    if (read && (is_movingcap_page(path) || path == k_fh_emulator_template)) {
+      return respond(redirect_to("/emulator.html"));
+    }
+    if (is_movingcap_page(path)) return respond(not_found_page());  // POST /program.html: no such endpoint
+  } else if (path == k_fh_emulator_template) {
+    return respond(not_found_page());
+  }
   if (path == "/program.html") return program_page(request, respond);  // web.md §6 (handlers_script.cpp)
   if (services_.pages && services_.pages(request, respond)) return;
   if (auto asset = serve_asset(request)) return respond(std::move(*asset));  // web/ui/, embedded
@@ -521,17 +560,32 @@ StatusInputs Router::status_inputs() const {
   in.state = device_.core().state();
   in.velocity_inc_s = device_.core().actual_velocity_inc_s();
   in.temperature_available = device_.core().plant_params().temperature_available;
+  in.input_count = static_cast<int>(device_.preset().input_pins.size());
+  in.output_count = static_cast<int>(device_.preset().output_pins.size());
+  if (device_.personality().faulhaber) {
+    FaulhaberStatus fh;
+    if (const auto* programs = device_.basic()) {
+      fh.basic_running = programs->running();
+      fh.basic_line = programs->running_line();
+      fh.basic_autostart = programs->autostart();
+    }
+    if (in.temperature_available) fh.temperature_c = std::llround(device_.core().temperature_c());
+    in.faulhaber = fh;
+    return in;
+  }
   if (services_.script) {
     in.python = services_.script->status();
     in.refgo.attach_mode = services_.script->refgo_attach_mode();
   }
   in.refgo.clients = services_.refgo_clients ? services_.refgo_clients() : 0;
-  const auto& vars = device_.refgo()->variables();
-  in.refgo.repeat_way = vars.repeat_way;
-  in.refgo.wait_time_ms = vars.wait_time_ms;
-  in.refgo.back_and_forth = device_.refgo()->programs().back_and_forth_active();
-  if (const auto due = device_.refgo()->programs().jog_stop_due_ms()) {
-    in.refgo.jog_timer_ms = *due > in.time_ms ? *due - in.time_ms : 0;
+  if (const auto* refgo = device_.refgo()) {
+    const auto& vars = refgo->variables();
+    in.refgo.repeat_way = vars.repeat_way;
+    in.refgo.wait_time_ms = vars.wait_time_ms;
+    in.refgo.back_and_forth = refgo->programs().back_and_forth_active();
+    if (const auto due = refgo->programs().jog_stop_due_ms()) {
+      in.refgo.jog_timer_ms = *due > in.time_ms ? *due - in.time_ms : 0;
+    }
   }
   in.udp_listeners = services_.udp_listeners ? services_.udp_listeners() : 0;
   if (services_.led_state) in.led = services_.led_state();

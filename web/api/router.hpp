@@ -8,7 +8,9 @@
 // name gets 400. Paths outside /api/ go to /program.html's handler (the real drive's script upload
 // and control endpoint, web.md §6), Services::pages (after the http.error injection), then the
 // embedded files; every HTML answer on that path is rendered as a page template (pages.hpp) when it
-// is sent, so that a page answered after an action shows the state after it.
+// is sent, so that a page answered after an action shows the state after it. A drive without the
+// MovingCap pages (a FAULHABER MC) answers /emulator.html with its own template /faulhaber.html
+// and redirects `/` and the MovingCap pages there (web/README.md "FAULHABER drive").
 // No CORS header is ever sent.
 //
 // Contract: single-threaded (event loop). handle() calls `respond` exactly once, possibly after it

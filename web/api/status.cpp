@@ -31,6 +31,28 @@ constexpr std::array<ErrorName, 13> k_error_names{{
     {0xFFF5, "ERROR_NEEDS_RESET"},
 }};
 
+// The EMCY codes of a FAULHABER drive (faulhaber.md §7.3; names in mcemu's words, after the bits
+// of the error word 2320h they go with).
+constexpr std::array<ErrorName, 10> k_fh_error_names{{
+    {0x2300, "current error"},
+    {0x3210, "over-voltage"},
+    {0x3220, "under-voltage"},
+    {0x4310, "temperature error"},
+    {0x43F0, "temperature warning"},
+    {0x5000, "internal hardware error"},
+    {0x7300, "encoder error"},
+    {0x8130, "communication error"},
+    {0x8611, "following error"},
+    {0xFF00, "safety monitor"},
+}};
+
+std::string fh_last_error_text(std::uint16_t code) {
+  for (const auto& e : k_fh_error_names) {
+    if (e.code == code) return h4(code) + " / " + std::string(e.name);
+  }
+  return h4(code) + " / unknown";
+}
+
 std::int64_t num(const od::ObjectDictionary& od, std::uint16_t index, std::uint8_t sub, std::int64_t fallback = 0) {
   const auto v = od.read_number(index, sub);
   return v ? *v : fallback;
@@ -109,7 +131,121 @@ Footer footer(const FooterValues& v) {
   return f;
 }
 
+std::string_view state_name(core::PdsState s) {
+  switch (s) {
+    case core::PdsState::not_ready_to_switch_on: return "Not ready to switch on";
+    case core::PdsState::switch_on_disabled: return "Switch on disabled";
+    case core::PdsState::ready_to_switch_on: return "Ready to switch on";
+    case core::PdsState::switched_on: return "Switched on";
+    case core::PdsState::operation_enabled: return "Operation enabled";
+    case core::PdsState::quick_stop_active: return "Quick stop active";
+    case core::PdsState::fault_reaction_active: return "Fault reaction active";
+    case core::PdsState::fault: break;
+  }
+  return "Fault";
+}
+
+FhLed fh_led(core::PdsState s) {
+  switch (s) {
+    case core::PdsState::not_ready_to_switch_on: return {"off", false};
+    case core::PdsState::operation_enabled: return {"green", false};
+    case core::PdsState::fault_reaction_active:
+    case core::PdsState::fault: return {"red", false};
+    default: return {"green", true};
+  }
+}
+
+FhFooter fh_footer(const FhFooterValues& v) {
+  FhFooter f;
+  f.state = std::string(state_name(v.state));
+  if (v.state == core::PdsState::fault || v.state == core::PdsState::fault_reaction_active) {
+    f.state += " " + h4(v.error_code);
+  }
+  f.statwd = "StatWd " + h4(v.statusword);
+  f.opmode = "OpMode " + std::to_string(v.op_mode_display);
+  f.basic = v.basic_running ? "BASIC RUN " + std::to_string(v.basic_running) : std::string("BASIC OFF");
+  f.pos = "Pos " + std::to_string(v.pos) + " inc";
+  f.vel = "Vel " + std::to_string(v.vel) + " rpm";
+  f.io = "I";
+  for (int n = 1; n <= v.input_count; ++n) f.io += ((v.inputs >> (n - 1)) & 1U) ? static_cast<char>('0' + n % 10) : '.';
+  f.io += 'O';
+  for (int n = 1; n <= v.output_count; ++n)
+    f.io += ((v.outputs >> (n - 1)) & 1U) ? static_cast<char>('0' + n % 10) : '.';
+  return f;
+}
+
+namespace {
+
+// The snapshot of a FAULHABER drive: the CiA 402 part every drive has, the MC's objects, its LED
+// and footer; nothing of RefGo, UDP, CODE scripts or the MovingCap's LEDs.
+std::string fh_status_json(const StatusInputs& in, std::uint64_t seq) {
+  const auto& od = in.od;
+  const auto& fh = *in.faulhaber;
+  FhFooterValues fv;
+  fv.state = in.state;
+  fv.error_code = static_cast<std::uint16_t>(num(od, 0x603F, 0));
+  fv.statusword = static_cast<std::uint16_t>(num(od, 0x6041, 0));
+  fv.op_mode_display = static_cast<std::int8_t>(num(od, 0x6061, 0));
+  fv.basic_running = fh.basic_running;
+  fv.pos = num(od, 0x6064, 0);
+  fv.vel = num(od, 0x606C, 0);
+  fv.inputs = static_cast<std::uint16_t>(num(od, 0x2311, 1));
+  fv.outputs = static_cast<std::uint16_t>(num(od, 0x2311, 3));
+  fv.input_count = in.input_count;
+  fv.output_count = in.output_count;
+  const FhFooter f = fh_footer(fv);
+  const FhLed led = fh_led(in.state);
+
+  json last_error = nullptr;
+  if (num(od, 0x1003, 0) > 0) {
+    const auto code = static_cast<std::uint32_t>(num(od, 0x1003, 1));
+    last_error = json{{"code", code}, {"text", fh_last_error_text(static_cast<std::uint16_t>(code & 0xFFFF))}};
+  }
+  const json j{
+      {"seq", seq},
+      {"timeMs", in.time_ms},
+      {"personality", "faulhaber"},
+      {"state", state_abbreviation(in.state)},
+      {"stateName", state_name(in.state)},
+      {"statusword", fv.statusword},
+      {"controlword", num(od, 0x6040, 0)},
+      {"opMode", num(od, 0x6060, 0)},
+      {"opModeDisplay", fv.op_mode_display},
+      {"errorCode", fv.error_code},
+      {"lastError", last_error},
+      {"errorRegister", num(od, 0x1001, 0)},
+      {"errorWord", num(od, 0x2320, 0)},
+      {"deviceStatus", num(od, 0x2324, 1)},
+      {"posUser", fv.pos},
+      {"posInc", fv.pos},
+      {"velUser", fv.vel},
+      {"velRpm", fv.vel},
+      {"targetPos", num(od, 0x607A, 0)},
+      {"temperatureC", fh.temperature_c ? json(*fh.temperature_c) : json(nullptr)},
+      {"digIn", num(od, 0x2311, 2)},
+      {"digInLogical", fv.inputs},
+      {"digOut", fv.outputs},
+      {"basic",
+       {{"running", fh.basic_running},
+        {"line", fh.basic_line ? json(*fh.basic_line) : json(nullptr)},
+        {"autostart", fh.basic_autostart}}},
+      {"led", {{"color", led.color}, {"blink", led.blink}}},
+      {"footer",
+       {{"state", f.state},
+        {"statwd", f.statwd},
+        {"opmode", f.opmode},
+        {"basic", f.basic},
+        {"pos", f.pos},
+        {"vel", f.vel},
+        {"io", f.io}}},
+  };
+  return dump_json(j);
+}
+
+}  // namespace
+
 std::string status_json(const StatusInputs& in, std::uint64_t seq) {
+  if (in.faulhaber) return fh_status_json(in, seq);
   const auto& od = in.od;
   const auto statusword = static_cast<std::uint16_t>(num(od, 0x6041, 0));
   const int ts = refgo::simple_status(refgo::tpsr(statusword));

@@ -81,6 +81,45 @@ struct LedStatus {
   bool operator==(const LedStatus&) const = default;
 };
 
+// The FAULHABER MotionController (faulhaber.md): what its snapshot adds.
+struct FaulhaberStatus {
+  int basic_running = 0;                      // the running MC BASIC slot, 0 = none
+  std::optional<std::uint32_t> basic_line;    // its running line
+  int basic_autostart = 0;                    // the autostart slot, 0 = none
+  std::optional<std::int64_t> temperature_c;  // the drive's temperature, °C (the MC has no 3401h)
+};
+
+// The bicolour status LED of the MC (web/README.md "FAULHABER drive", mcemu's choice): green steady
+// in Operation enabled, green blinking in the other powered states, red in Fault and Fault reaction
+// active, off in Not ready to switch on. FAULHABER's red blink codes are not modelled.
+struct FhLed {
+  std::string_view color;  // "green", "red", "off"
+  bool blink = false;
+};
+FhLed fh_led(core::PdsState s);
+// "Operation enabled", "Switch on disabled", … (CiA 402 state names)
+std::string_view state_name(core::PdsState s);
+
+// The footer of a FAULHABER drive: the CiA 402 state (with H4(603Fh) in Fault), the statusword, the
+// mode, the MC BASIC state, position 6064h, velocity 606Ch (min⁻¹) and the digital I/O of 2311h.
+struct FhFooterValues {
+  core::PdsState state = core::PdsState::not_ready_to_switch_on;
+  std::uint16_t error_code = 0;     // 603Fh
+  std::uint16_t statusword = 0;     // 6041h
+  std::int8_t op_mode_display = 0;  // 6061h
+  int basic_running = 0;            // slot, 0 = none
+  std::int64_t pos = 0;             // 6064h
+  std::int64_t vel = 0;             // 606Ch
+  std::uint16_t inputs = 0;         // 2311h.01, bit n−1 = DigIn n
+  std::uint16_t outputs = 0;        // 2311h.03, bit n−1 = DigOut n
+  int input_count = 8;
+  int output_count = 2;
+};
+struct FhFooter {
+  std::string state, statwd, opmode, basic, pos, vel, io;
+};
+FhFooter fh_footer(const FhFooterValues& v);
+
 struct StatusInputs {
   const od::ObjectDictionary& od;
   std::uint64_t time_ms = 0;
@@ -91,6 +130,11 @@ struct StatusInputs {
   RefgoStatus refgo{};
   int udp_listeners = 0;
   LedStatus led{};
+  // Set on a FAULHABER drive: the snapshot then has the MC's footer and LED and leaves out the
+  // MovingCap's python, refgo, udp, ts/tpsr/live and its two Morse/link LEDs.
+  std::optional<FaulhaberStatus> faulhaber{};
+  int input_count = 8;   // FAULHABER: DigIn1…n
+  int output_count = 2;  // FAULHABER: DigOut1…n
 };
 
 // The snapshot object without "type" (the WebSocket adds "type": "status").

@@ -1,6 +1,8 @@
 // What every page shares (web.md §3, §4): the menu bar and side menu, the header LEDs, the live
 // footer and the page data the server rendered. A page module calls boot() once and gets the live
-// connection (live.js) and the LEDs (led.js).
+// connection (live.js) and the LEDs (led.js). The FAULHABER drive's page (web/README.md "FAULHABER
+// drive") has no side menu, one bicolour status LED (#led-status) and its own footer fields: every
+// footer field the status carries is shown in the element #ft-<name>, when the page has one.
 import { live } from './live.js';
 import { Leds } from './led.js';
 
@@ -13,7 +15,6 @@ export const pageData = (() => {
   }
 })();
 
-const FOOTER = ['statwd', 'opmode', 'python', 'pos', 'vel', 'temp', 'io'];
 
 // #ft-live: "MC Live ERR 7121h" with the ERR part a red link to the Info page (§4.2).
 function showLive(el, text) {
@@ -30,6 +31,15 @@ function showLive(el, text) {
   }
 }
 
+// The FAULHABER MC's bicolour LED: data-color green/red/off, data-blink true/false (status `led`).
+export function showStatusLed(el, s) {
+  if (!s.led || !s.led.color) return;
+  if (el.dataset.color !== s.led.color) el.dataset.color = s.led.color;
+  const blink = String(!!s.led.blink);
+  if (el.dataset.blink !== blink) el.dataset.blink = blink;
+  if (s.stateName) el.setAttribute('aria-label', `status LED: ${s.stateName}`);
+}
+
 function markCurrent() {
   const here = location.pathname === '/' ? '/index.html' : location.pathname;
   for (const a of document.querySelectorAll('#menubar a, #sidemenu a')) {
@@ -40,6 +50,7 @@ function markCurrent() {
 function wireSideMenu() {
   const button = document.getElementById('menu-toggle');
   const menu = document.getElementById('sidemenu');
+  if (!button || !menu) return;
   const set = (open) => {
     menu.hidden = !open;
     button.setAttribute('aria-expanded', String(open));
@@ -60,11 +71,20 @@ function wireSideMenu() {
 }
 
 function wireFooter() {
-  const els = Object.fromEntries(FOOTER.map((k) => [k, document.getElementById(`ft-${k}`)]));
-  const liveEl = document.getElementById('ft-live');
+  const els = new Map();
+  const el = (k) => {
+    if (!els.has(k)) els.set(k, document.getElementById(`ft-${k}`));
+    return els.get(k);
+  };
   live.on('status', (s) => {
-    showLive(liveEl, s.footer.live);
-    for (const k of FOOTER) if (els[k].textContent !== s.footer[k]) els[k].textContent = s.footer[k];
+    for (const [k, text] of Object.entries(s.footer)) {
+      const e = el(k);
+      if (!e) continue;
+      if (k === 'live') showLive(e, text);
+      else if (e.textContent !== text) e.textContent = text;
+      // FAULHABER: the state field is red in Fault (like the LED)
+      if (k === 'state') e.classList.toggle('err', text.startsWith('Fault'));
+    }
   });
   const conn = document.getElementById('ft-conn');
   const words = { ws: 'live (WebSocket, 20 Hz)', poll: 'live (polling the JSON API)', offline: 'no answer from the emulator — retrying', connecting: 'connecting…' };
@@ -81,7 +101,10 @@ export function boot({ topics = [] } = {}) {
   markCurrent();
   wireSideMenu();
   wireFooter();
-  const leds = new Leds(live, document.getElementById('led-green'), document.getElementById('led-yellow'));
+  const green = document.getElementById('led-green');
+  const leds = green ? new Leds(live, green, document.getElementById('led-yellow')) : null;
+  const status = document.getElementById('led-status');
+  if (status) live.on('status', (s) => showStatusLed(status, s));
   live.start(topics);
   return { live, leds, pageData };
 }

@@ -2,8 +2,9 @@
 // confirm(), and the object browser with inline editing (§3.6).
 import { boot } from '../skeleton.js';
 import { api, describe } from '../api.js';
-import { $, action, element, parseNumber, reportError } from '../ui.js';
-import { bindField, markError, clearError } from '../fields.js';
+import { $, action } from '../ui.js';
+import { markError, clearError } from '../fields.js';
+import { objectBrowser } from '../objects.js';
 
 boot();
 
@@ -52,80 +53,5 @@ action($('cmd-factory'), async () => {
   return 'Factory settings loaded';
 }, $('cmd-factory-result'));
 
-// ---- object browser
-const tbody = document.querySelector('#cmd-objects tbody');
-const filter = $('cmd-filter');
-const hexBox = $('cmd-hex');
-let entries = [];
-let bound = [];
-
-const bits = (type) => Number((/(\d+)$/.exec(type) || [0, 32])[1]);
-const formatValue = (e) => (v) => {
-  if (typeof v !== 'number' || !hexBox.checked) return String(v);
-  const width = bits(e.type);
-  const u = width >= 32 ? v >>> 0 : v < 0 ? v + 2 ** width : v;
-  return u.toString(16).toUpperCase() + 'h';
-};
-const parseValue = (e) => (text) => {
-  if (e.type === 'VISIBLE_STRING') return text;
-  return parseNumber(text, { hex: hexBox.checked });
-};
-const idOf = (e) => `obj-${e.index.slice(0, 4)}-${e.sub.slice(0, 2)}`;
-
-function render() {
-  for (const b of bound) b.unbind();
-  bound = [];
-  const q = filter.value.trim().toLowerCase().replace(/h$/, '');
-  const shown = entries.filter((e) => !q || `${e.index} ${e.index.slice(0, 4)}.${e.sub.slice(0, 2)} ${e.name}`.toLowerCase().includes(q));
-  const rows = shown.map((e) => {
-    const writable = e.access === 'rw' || e.access === 'wo';
-    let cell;
-    if (writable) {
-      const field = element('input', { type: 'text', id: idOf(e), class: 'mono', size: '14', 'aria-label': `${e.index}.${e.sub} ${e.name}` });
-      bound.push(bindField(field, { index: parseInt(e.index, 16), sub: parseInt(e.sub, 16), format: formatValue(e), parse: parseValue(e) }));
-      cell = element('td', {}, field);
-    } else {
-      cell = element('td', { id: idOf(e), class: 'mono', text: formatValue(e)(e.value) });
-    }
-    return element('tr', {}, element('td', { class: 'mono', text: e.index }), element('td', { class: 'mono', text: e.sub }), element('td', { text: e.name }), element('td', { text: e.type }), element('td', { text: e.access }), cell, element('td', { class: 'mono', text: formatValue(e)(e.factory) }));
-  });
-  tbody.replaceChildren(...rows);
-  $('cmd-count').textContent = `${shown.length} of ${entries.length} entries`;
-  refreshReadOnly(shown);
-}
-
-// Read-only values change too (6041h, 6064h …): one read of the shown ones every second.
-let readOnlyTimer = null;
-function refreshReadOnly(shown) {
-  clearTimeout(readOnlyTimer);
-  const ro = shown.filter((e) => !(e.access === 'rw' || e.access === 'wo'));
-  const tick = async () => {
-    try {
-      const values = ro.length ? await api.read(ro.map((e) => [parseInt(e.index, 16), parseInt(e.sub, 16)])) : [];
-      values.forEach((v, i) => {
-        const el = document.getElementById(idOf(ro[i]));
-        if (el && !(v && typeof v === 'object')) {
-          ro[i].value = v;
-          const text = formatValue(ro[i])(v);
-          if (el.textContent !== text) el.textContent = text;
-        }
-      });
-    } catch (e) {
-      reportError(e);
-    }
-    readOnlyTimer = setTimeout(tick, 1000);
-  };
-  readOnlyTimer = setTimeout(tick, 1000);
-}
-
-let filterTimer = null;
-filter.addEventListener('input', () => {
-  clearTimeout(filterTimer);
-  filterTimer = setTimeout(render, 150);
-});
-hexBox.addEventListener('change', render);
-
-api.get('/api/v1/objects').then((list) => {
-  entries = list;
-  render();
-}).catch(reportError);
+// ---- object browser (objects.js)
+objectBrowser({ tbody: document.querySelector('#cmd-objects tbody'), filter: $('cmd-filter'), hex: $('cmd-hex'), count: $('cmd-count') });

@@ -3,7 +3,7 @@
 import { api, describe } from '../api.js';
 import { $, element, reportError, showResult } from '../ui.js';
 
-const CHANNELS = ['refgo', 'slcan', 'udp', 'http', 'script', 'drive', 'api'];
+const CHANNELS = (document.getElementById('emu-trace-channels')?.dataset.channels || 'refgo,slcan,udp,http,script,drive,api').split(',');
 const MAX_LINES = 500;
 const CTL = { 9: 'TAB', 10: 'LF', 13: 'CR' };
 
@@ -139,6 +139,6 @@ function startTrace(live) {
 }
 
 export function startLog(live) {
-  startConsole(live);
+  if (document.getElementById('emu-console')) startConsole(live); // the FAULHABER page has no UDP console
   startTrace(live);
 }
