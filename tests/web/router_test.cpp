@@ -32,11 +32,28 @@ std::string header(const Response& r, std::string_view name) {
 
 TEST(Router, UnknownPathsGetThe404Page) {
   ApiFixture f;
-  for (const char* p : {"/nothing", "/api/v1/nothing", "/api/v2/info", "/api/v1/objects/6041", "/api/v1/info/x"}) {
+  for (const char* p : {"/nothing", "/static/none.js", "/apix/v1/info", "/api"}) {
     const auto r = f.call("GET", p);
     EXPECT_EQ(r.status, 404) << p;
     EXPECT_EQ(r.content_type, "text/html; charset=utf-8") << p;
     EXPECT_NE(r.body.find("/index.html"), std::string::npos) << p;
+  }
+}
+
+// web.md §1.4: an API client parses JSON, so an unknown path under /api/ is a JSON 404.
+TEST(Router, UnknownApiPathsGetAJson404) {
+  ApiFixture f;
+  for (const char* p :
+       {"/api/v1/nothing", "/api/v2/info", "/api/v1/objects/6041", "/api/v1/info/x", "/api/", "/api/v1/nothing?x=1"}) {
+    for (const char* method : {"GET", "POST", "PUT", "DELETE"}) {
+      const auto r = f.call(method, p, "{}", "application/json");
+      EXPECT_EQ(r.status, 404) << method << " " << p;
+      EXPECT_EQ(r.content_type, "application/json") << method << " " << p;
+      EXPECT_EQ(header(r, "Cache-Control"), "no-store") << p;
+      const auto body = f.json_of(r);
+      EXPECT_EQ(body["error"]["code"], "not-found") << p;
+      EXPECT_EQ(body["error"]["message"].get<std::string>().rfind("no API route /api/", 0), 0u) << body.dump();
+    }
   }
 }
 
@@ -165,6 +182,7 @@ TEST(OpenApi, EveryRouteIsDescribedAndEveryDescribedRouteExists) {
       const auto r = f.call(upper, sample_path(path), "{}", "application/json");
       EXPECT_NE(r.status, 405) << upper << " " << path;
       EXPECT_FALSE(r.status == 404 && r.content_type.rfind("text/html", 0) == 0) << upper << " " << path;
+      EXPECT_EQ(r.body.find("no API route"), std::string::npos) << upper << " " << path;
       for (const auto& p : op.value("parameters", json::array())) {
         EXPECT_TRUE(p["in"] == "path" || p["in"] == "query") << path;
       }

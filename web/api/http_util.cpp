@@ -60,6 +60,11 @@ Response not_found_page() {
   return r;
 }
 
+Response unknown_api_path(std::string_view path) {
+  return error_json(404, "not-found",
+                    "no API route " + std::string(path) + " (GET /api/v1/openapi.json lists the routes)");
+}
+
 namespace {
 std::string format_hex(const char* fmt, std::uint32_t v) {
   std::array<char, 16> buf{};

@@ -35,8 +35,11 @@ Response error_json(int status, std::string_view code, std::string_view message)
 Response refusal_response(const device::Refusal& r);
 // An OD refusal: 404 for a missing object or sub-index, 409 for every other code (web.md §8).
 Response abort_response(od::AbortCode c);
-// The 404 page of web.md §1.4 (HTML, links to /index.html).
+// The 404 page of web.md §1.4 (HTML, links to /index.html) for a path outside /api/.
 Response not_found_page();
+// The 404 of web.md §1.4 for a path under /api/ that no route matches: the JSON error body
+// {"error": {"code": "not-found", "message": "no API route …"}}.
+Response unknown_api_path(std::string_view path);
 
 // Hex forms of web.md §8: "607Ah", "0Ah", "06090031h", and H4 of §4.2 ("0427h", at least 4 digits).
 std::string hex_index(std::uint16_t index);

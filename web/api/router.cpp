@@ -396,7 +396,8 @@ void Router::dispatch(const Request& request, const Respond& respond) {
   for (const auto& r : rows) {
     if (match_path(r.doc.path, path)) best = std::min(best, parameter_count(r.doc.path));
   }
-  if (best == SIZE_MAX) return respond(not_found_page());
+  // An API client parses JSON, also when it asked for a path that does not exist (web.md §1.4).
+  if (best == SIZE_MAX) return respond(unknown_api_path(path));
   const auto method = method_of(request.method);
   const Route* route = nullptr;
   std::string allow;
