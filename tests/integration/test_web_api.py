@@ -188,6 +188,14 @@ class WebApi(unittest.TestCase):
         status, body = self.c.json("POST", "/api/v1/refgo", {"line": "TP\r"})
         self.assert_error(status, body, 400, "syntax")
 
+    def test_400_range(self):
+        """The JSON API is strict (object-dictionary.md §3.2): -1 to an UNSIGNED32 is a 400, not 0xFFFFFFFF."""
+        before = self.c.json("GET", "/api/v1/objects/6083/0")[1]["value"]
+        status, body = self.c.json("PUT", "/api/v1/objects/6083/0", {"value": -1})
+        self.assert_error(status, body, 400, "range")
+        self.assertEqual(body["error"]["abortCode"], "06090032h")
+        self.assertEqual(self.c.json("GET", "/api/v1/objects/6083/0")[1]["value"], before, "nothing stored")
+
     def test_404_object(self):
         status, body = self.c.json("GET", "/api/v1/objects/7000/0")
         self.assert_error(status, body, 404, "abort")

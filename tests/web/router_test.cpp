@@ -352,6 +352,52 @@ TEST(Router, FactoryResetWritesLoad) {
 }
 
 // Bad input never crashes and never corrupts: 4xx with a JSON error, and the entries keep their values.
+// object-dictionary.md §3.2: the JSON API is strict. A number outside the entry's data type is a
+// 400 (code "range", the range check's abort code) and is never stored as its two's complement;
+// the dictionary's earlier checks (existence, access, kind) keep their order and their answers.
+TEST(Router, JsonWritesOutsideTheTypeAre400NotTwosComplement) {
+  ApiFixture f;
+  struct Case {
+    const char* target;
+    const char* body;
+    const char* abort;
+  };
+  for (const auto& c : {Case{"/api/v1/objects/6083/0", R"({"value": -1})", "06090032h"},
+                        Case{"/api/v1/objects/6083/0", R"({"value": -2147483648})", "06090032h"},
+                        Case{"/api/v1/objects/6083/0", R"({"value": 4294967296})", "06090031h"},
+                        Case{"/api/v1/objects/6073/0", R"({"value": 65536})", "06090031h"},
+                        Case{"/api/v1/objects/6073/0", R"({"value": -1})", "06090032h"},
+                        Case{"/api/v1/objects/6098/0", R"({"value": 128})", "06090031h"},
+                        Case{"/api/v1/objects/6098/0", R"({"value": -129})", "06090032h"}}) {
+    const auto before = f.get("/api/v1/objects");
+    const auto r = f.call("PUT", c.target, c.body);
+    EXPECT_EQ(r.status, 400) << c.target << " " << c.body;
+    EXPECT_EQ(r.content_type, "application/json");
+    const auto e = f.json_of(r)["error"];
+    EXPECT_EQ(e["code"], "range") << e.dump();
+    EXPECT_EQ(e["abortCode"], c.abort) << c.target << " " << c.body;
+    EXPECT_NE(e["message"].get<std::string>().find(" is outside "), std::string::npos) << e.dump();
+    EXPECT_EQ(f.get("/api/v1/objects"), before) << "nothing stored: " << c.body;
+  }
+  // the message names the type and its range
+  EXPECT_EQ(f.json_of(f.call("PUT", "/api/v1/objects/6083/0", R"({"value": -1})"))["error"]["message"],
+            "-1 is outside UNSIGNED32 (0 … 4294967295)");
+  // the edges of the types are stored
+  EXPECT_EQ(f.call("PUT", "/api/v1/objects/6098/0", R"({"value": -128})").status, 200);
+  EXPECT_EQ(f.n(0x6098, 0), -128);
+  EXPECT_EQ(f.call("PUT", "/api/v1/objects/6083/0", R"({"value": 20000})").status, 200);
+  // earlier checks answer first: a read-only entry, a missing one, a string for a number
+  auto r = f.call("PUT", "/api/v1/objects/6041/0", R"({"value": -1})");
+  EXPECT_EQ(r.status, 409);
+  EXPECT_EQ(f.json_of(r)["error"]["abortCode"], "06010002h");
+  EXPECT_EQ(f.call("PUT", "/api/v1/objects/7000/0", R"({"value": -1})").status, 404);
+  EXPECT_EQ(f.json_of(f.call("PUT", "/api/v1/objects/6083/0", R"({"value": "-1"})"))["error"]["abortCode"],
+            "06070010h");
+  // the journal (web.md §8.6, channel api) records the refusal
+  const auto journal = f.api_events();
+  EXPECT_NE(std::find(journal.begin(), journal.end(), "PUT 6083h.00h = -1 06090032h"), journal.end());
+}
+
 struct BadCall {
   const char* method;
   const char* target;
@@ -390,8 +436,9 @@ INSTANTIATE_TEST_SUITE_P(
                       BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 18446744073709551615})", 400},
                       BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 18446744073709551616})", 400},
                       BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 1e300})", 400},
-                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": -2147483649})", 409},
-                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 4294967296})", 409},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": -2147483649})", 400},  // range
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 4294967296})", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": -1})", 400},
                       BadCall{"PUT", "/api/v1/objects/6060/0", R"({"value": 99})", 409},
                       BadCall{"PUT", "/api/v1/objects/6083/256", R"({"value": 5})", 400},
                       BadCall{"PUT", "/api/v1/objects/10000/0", R"({"value": 5})", 400},

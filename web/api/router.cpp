@@ -80,7 +80,7 @@ const std::vector<Router::Route>& Router::routes() {
         "application/json",
         k_value_body,
         "application/json",
-        {k_400, k_404, k_409}},
+        {{400, "malformed request (syntax), or a number outside the entry's data type (range)"}, k_404, k_409}},
        &Router::put_object},
       {{M::post,
         "/api/v1/objects/read",
