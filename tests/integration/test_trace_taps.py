@@ -78,6 +78,34 @@ class SlcanTrace(unittest.TestCase):
             self.assertTrue(all(f.timestamp > 1.6e9 for f in frames), "wall-clock stamps")
 
 
+class ConnectionIds(unittest.TestCase):
+    def test_one_counter_per_drive_across_channels(self):
+        """A drive's RefGo, SLCAN and HTTP listeners share one counter of connection ids, so a `conn`
+        in the trace names one connection whatever its channel (web.md §8.6)."""
+        with Mcemu() as m:
+            with Nc(m.ports["refgo"]) as nc:
+                nc.request("TP")
+            c = Client(m.ports["slcan"])
+            try:
+                c.upload(0x6041, 0)
+            finally:
+                c.close()
+            m.http("GET", "/api/v1/status")
+            with Nc(m.ports["refgo"]) as nc:
+                nc.request("TP")
+
+            def connects():
+                ev = events(m, "refgo,slcan,http")
+                found = [(e["channel"], e["conn"]) for e in ev if e["dir"] == "event" and e["text"] == "connect"]
+                return found if {ch for ch, _ in found} == {"refgo", "slcan", "http"} and \
+                    sum(ch == "refgo" for ch, _ in found) == 2 else None
+
+            found = wait_for(connects, what="connect events of every channel")
+            conns = [conn for _, conn in found]
+            self.assertEqual(len(conns), len(set(conns)), found)
+            self.assertEqual(sorted(conns), list(range(1, len(conns) + 1)), "counted from 1 without gaps")
+
+
 class UdpAndDriveTrace(unittest.TestCase):
     def test_datagrams_both_ways_with_the_ignored_flag_and_registration_time(self):
         with Mcemu() as m:

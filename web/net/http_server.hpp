@@ -28,6 +28,7 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "base/connection_ids.hpp"
 #include "web/api/http_types.hpp"
 #include "web/net/ws_hub.hpp"
 
@@ -44,6 +45,9 @@ struct HttpOptions {
   std::chrono::milliseconds write_timeout{60'000};  // to send one response to a client that reads
   std::chrono::milliseconds linger{1'000};          // input discarded after a closing error response
   WsOptions ws;
+  // The drive's connection ids, shared with its line listeners (base/connection_ids.hpp); empty =
+  // this server counts from 1 on its own. A WebSocket keeps the id of its upgrade request.
+  std::shared_ptr<base::ConnectionIds> ids;
 };
 
 // Answers one request: must call `respond` exactly once, possibly later, on the loop thread.
@@ -101,7 +105,7 @@ class HttpServer {
   WsHub hub_;
   std::unordered_map<Connection*, std::shared_ptr<Connection>> connections_;
   std::size_t websockets_ = 0;
-  std::uint64_t next_id_ = 1;
+  std::shared_ptr<base::ConnectionIds> ids_;  // options_.ids, or its own
   bool accepting_ = false;
   std::shared_ptr<int> alive_ = std::make_shared<int>(0);  // accept handlers check it
 };

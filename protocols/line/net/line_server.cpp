@@ -26,7 +26,10 @@ void apply_stream_socket_options(tcp::socket& socket) {
 
 LineServer::LineServer(asio::io_context& io, const tcp::endpoint& endpoint, LineServerOptions options,
                        SessionFactory factory)
-    : acceptor_(io), options_(std::move(options)), factory_(std::move(factory)) {
+    : acceptor_(io),
+      options_(std::move(options)),
+      factory_(std::move(factory)),
+      ids_(base::own_ids_unless(options_.ids)) {
   acceptor_.open(endpoint.protocol());
   acceptor_.set_option(tcp::acceptor::reuse_address(true));
   acceptor_.bind(endpoint);
@@ -67,7 +70,7 @@ void LineServer::on_accept(const boost::system::error_code& ec, tcp::socket sock
     boost::system::error_code pe;
     const auto remote = socket.remote_endpoint(pe);
     PeerInfo peer{pe ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port()),
-                  next_id_++};
+                  ids_->next()};
     if (connections_.size() >= options_.max_clients) {
       spdlog::warn("{}: connection limit {} reached ({} sets it); closing connection from {}", options_.name,
                    options_.max_clients, options_.max_clients_flag, peer.address);

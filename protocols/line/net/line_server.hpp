@@ -55,7 +55,7 @@ class LineServer {
   LineServerOptions options_;
   SessionFactory factory_;
   std::map<LineConnectionBase*, std::shared_ptr<Connection>> connections_;
-  std::uint64_t next_id_ = 1;
+  std::shared_ptr<base::ConnectionIds> ids_;  // options_.ids, or its own
   bool accepting_ = false;
 };
 
