@@ -129,8 +129,10 @@ void DriveUnit::build_web(const asio::ip::address& address) {
     sync();
     const std::string line =
         a.method.empty() ? std::string("(unreadable request)") : std::string(a.method) + " " + std::string(a.target);
-    device_->trace().record(trace::Channel::http, trace::Dir::rx, line, a.conn, a.peer);
-    device_->trace().record(trace::Channel::http, trace::Dir::tx, std::to_string(a.status), a.conn, a.peer);
+    trace::Flags flags;
+    flags.polling = a.polling;  // a page's own polling: the trace view can leave it out (web.md §8.6)
+    device_->trace().record(trace::Channel::http, trace::Dir::rx, line, a.conn, a.peer, flags);
+    device_->trace().record(trace::Channel::http, trace::Dir::tx, std::to_string(a.status), a.conn, a.peer, flags);
     // morse-led.md §5.1/§5.2: a connection counts for LINK/ACT from its first page request on;
     // page requests flicker the LED, /api/ requests do not.
     if (a.method.empty() || is_api(a.target)) return;

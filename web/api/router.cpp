@@ -49,7 +49,8 @@ const Answer k_503_engine{503, "no script engine in this build"};
 const std::vector<QueryParam> k_trace_query{
     {"since", "integer", "first sequence number wanted (default 0)"},
     {"channels", "string", "comma-separated channels: refgo, slcan, udp, http, script, drive, api (default all)"},
-    {"limit", "integer", "at most this many events, 1 … 10000 (default 500)"}};
+    {"limit", "integer", "at most this many events, 1 … 10000 (default 500)"},
+    {"excludePolling", "integer", "1: leave out the requests the pages repeat on a timer (header X-Mcemu-Poll)"}};
 const std::vector<QueryParam> k_export_query{
     {"since", "integer", "first sequence number wanted (default 0)"},
     {"limit", "integer", "at most this many events are examined, 1 … 10000 (default 10000)"},
@@ -127,7 +128,8 @@ const std::vector<Router::Route>& Router::routes() {
         {{"since", "integer", "first sequence number wanted (default 0)"},
          {"channels", "string", "comma-separated channels (default refgo,udp)"},
          {"limit", "integer", "at most this many events, 1 … 10000 (default 10000)"},
-         {"conn", "integer", "only the events of this connection"}},
+         {"conn", "integer", "only the events of this connection"},
+         {"excludePolling", "integer", "1: leave out the requests the pages repeat on a timer (header X-Mcemu-Poll)"}},
         "",
         "",
         "text/plain",

@@ -50,6 +50,10 @@ struct HttpOptions {
   std::shared_ptr<base::ConnectionIds> ids;
 };
 
+// A request the web pages repeat on a timer carries this header (any value); the observer is told,
+// so that the trace can leave the pages' own polling out (web.md §8.6).
+inline constexpr std::string_view k_poll_header = "X-Mcemu-Poll";
+
 // Answers one request: must call `respond` exactly once, possibly later, on the loop thread.
 using Handler = std::function<void(const api::Request&, api::Respond respond)>;
 
@@ -62,6 +66,7 @@ struct HttpObserver {
     std::string_view method;  // "GET"; empty when the request line could not be read
     std::string_view target;  // "/index.html?x=1"; empty likewise
     int status = 0;           // 101 for an accepted WebSocket upgrade
+    bool polling = false;     // the request carried k_poll_header (a page's timer, web.md §8.6)
   };
   std::function<void(std::uint64_t conn, std::string_view peer)> opened;  // connection accepted
   std::function<void(std::uint64_t conn)> closed;                         // its socket closed

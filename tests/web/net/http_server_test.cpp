@@ -62,7 +62,7 @@ class HttpServerTest : public ::testing::Test {
     obs.opened = [this](std::uint64_t c, std::string_view) { rec_.opened.push_back(c); };
     obs.closed = [this](std::uint64_t c) { rec_.closed.push_back(c); };
     obs.answered = [this](const HttpObserver::Answer& a) {
-      rec_.answers.push_back({a.conn, {}, {}, {}, a.status});
+      rec_.answers.push_back({a.conn, {}, {}, {}, a.status, a.polling});
       rec_.methods.emplace_back(a.method);
       rec_.targets.emplace_back(a.target);
     };
@@ -168,6 +168,23 @@ TEST_F(HttpServerTest, ConnectionIdsOfItsOwnWithoutASharedCounter) {
   ASSERT_TRUE(b.send(get_request("/echo")));
   ASSERT_TRUE(b.read_response());
   EXPECT_EQ(recorded().opened, (std::vector<std::uint64_t>{1, 2}));
+}
+
+// web.md §8.6: a request with the header X-Mcemu-Poll (the pages' timers) is reported as polling.
+TEST_F(HttpServerTest, ThePollHeaderIsReported) {
+  start();
+  RawClient c(port());
+  ASSERT_TRUE(c.send("GET /echo HTTP/1.1\r\nHost: x\r\nX-Mcemu-Poll: 1\r\n\r\n"));
+  ASSERT_TRUE(c.read_response());
+  ASSERT_TRUE(c.send(get_request("/echo")));  // the same connection, no header
+  ASSERT_TRUE(c.read_response());
+  ASSERT_TRUE(c.send("GET /nothing HTTP/1.1\r\nHost: x\r\nx-mcemu-poll: \r\n\r\n"));  // any case, any value
+  ASSERT_TRUE(c.read_response());
+  const auto rec = recorded();
+  ASSERT_EQ(rec.answers.size(), 3U);
+  EXPECT_TRUE(rec.answers[0].polling);
+  EXPECT_FALSE(rec.answers[1].polling);
+  EXPECT_TRUE(rec.answers[2].polling);
 }
 
 TEST_F(HttpServerTest, PipelinedRequestsAreAnsweredInOrder) {
