@@ -771,6 +771,29 @@ TEST(ProgramHtml, RefusedUploadsChangeNothing) {
   EXPECT_EQ(handled(f, upl_upload(std::string(65536, '#'))).status, 200) << "65 536 bytes is the limit";
 }
 
+// web.md §6.1: a refused upload answers the Code page with the refusal inside the page — in its
+// upload section, after the menu bar and the page's heading — not above the menu bar.
+TEST(ProgramHtml, TheRefusalIsShownInTheUploadSection) {
+  ApiFixture f;
+  FakeScript script;
+  f.services.script = &script;
+  f.make_router();
+  const auto r = handled(f, upl_upload(""));
+  ASSERT_EQ(r.status, 400);
+  const auto& b = r.body;
+  const auto note =
+      b.find("<p id=\"code-error\" class=\"notice error\" role=\"alert\">upload refused: the script file is empty</p>");
+  ASSERT_NE(note, std::string::npos) << b;
+  EXPECT_LT(b.find("id=\"menubar\""), note) << "after the menu bar";
+  EXPECT_LT(b.find("<main"), note);
+  EXPECT_LT(b.find("id=\"code-file-hint\""), note) << "under the upload controls";
+  EXPECT_LT(note, b.find("</form>"));
+  EXPECT_EQ(b.find("<!--code-error-->"), std::string::npos) << "the marker is replaced";
+  EXPECT_EQ(b.find("id=\"code-error\"", note + 10), std::string::npos) << "once";
+  EXPECT_NE(handled(f, upl_upload("print(1)\n")).body.find("<!--code-error-->"), std::string::npos)
+      << "an accepted upload shows no note";
+}
+
 TEST(ProgramHtml, CodeActPerformsTheActionAndAnswersThePage) {
   ApiFixture f;
   FakeScript script;
