@@ -89,6 +89,14 @@ class DriveUnit {
   // persistence.md §7: power loss and power-up in the running process; `done` when powered up.
   void power_cycle(std::function<void()> done);
   int number() const { return number_; }
+  // The ports the unit listens on (0: a service its personality does not have).
+  struct Ports {
+    std::uint16_t refgo = 0;
+    std::uint16_t slcan = 0;
+    std::uint16_t http = 0;
+    std::uint16_t udp = 0;
+  };
+  Ports ports() const;
 
   device::Device& device() { return *device_; }
   od::ObjectDictionary& od() { return device_->od(); }

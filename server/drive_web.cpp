@@ -161,12 +161,15 @@ void DriveUnit::build_web(const asio::ip::address& address) {
 void DriveUnit::wire_websocket() {
   auto& hub = http_->ws_hub();
   web::net::WsSources sources;
-  sources.info = [this] { return router_->info_text(); };
-  sources.status = [this] {
+  // Like the HTTP handler, the sources never read a bundle that is shutting down or gone.
+  sources.info = [this, alive = alive_.watch()] { return alive ? router_->info_text() : std::string("{}"); };
+  sources.status = [this, alive = alive_.watch()] {
+    if (!alive) return std::string();
     sync();
     return router_->status_message();
   };
-  sources.scope = [this] {
+  sources.scope = [this, alive = alive_.watch()] {
+    if (!alive) return std::string();
     sync();
     auto block = device_->scope().take_new();
     return block.samples.empty() ? std::string() : device::scope_message(block);
