@@ -60,8 +60,11 @@ void LineServer::close_connections() {
 
 void LineServer::do_accept() {
   if (!accepting_) return;
-  acceptor_.async_accept(
-      [this](const boost::system::error_code& ec, tcp::socket socket) { on_accept(ec, std::move(socket)); });
+  // The completion may come after the server is gone (an accept that completed just before stop(),
+  // its handler still queued): it checks first.
+  acceptor_.async_accept([this, alive = alive_.watch()](const boost::system::error_code& ec, tcp::socket socket) {
+    if (alive) on_accept(ec, std::move(socket));
+  });
 }
 
 void LineServer::on_accept(const boost::system::error_code& ec, tcp::socket socket) {
