@@ -185,7 +185,8 @@ void DriveCore::power_on(const PowerOnState& state) {
   mode_ = 0;
   injected_ &= ~(1u << static_cast<int>(FaultCause::needs_reset));
   deferred_ &= ~(1u << static_cast<int>(FaultCause::needs_reset));
-  uv_count_ = ov_count_ = 0;
+  uv_count_.reset();
+  ov_count_.reset();
   block_count_ = following_count_ = 0;
   first_step_ = true;
   pp_.clear();

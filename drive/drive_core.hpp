@@ -35,6 +35,7 @@
 #include "drive/od/dictionary.hpp"
 #include "drive/plant.hpp"
 #include "drive/plant_config.hpp"
+#include "drive/step_count.hpp"
 #include "drive/thermal.hpp"
 
 namespace mcemu::core {
@@ -244,8 +245,8 @@ class DriveCore {
   bool fh_temperature_warning_ = false;
   std::uint32_t injected_ = 0;  // bit = FaultCause
   std::uint32_t deferred_ = 0;  // event causes injected before the second step
-  int uv_count_ = 0;
-  int ov_count_ = 0;
+  StepCount uv_count_;          // steps below the under-voltage threshold (saturating: weeks of it)
+  StepCount ov_count_;
   bool first_step_ = false;
 
   // monitors

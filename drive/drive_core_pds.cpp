@@ -373,11 +373,11 @@ void DriveCore::try_fault_reset() {
 
 void DriveCore::check_conditions() {
   const double u = supply_voltage();
-  uv_count_ = u < params_.supply_uv_v ? uv_count_ + 1 : 0;
-  ov_count_ = u > params_.supply_ov_v ? ov_count_ + 1 : 0;
+  uv_count_.step(u < params_.supply_uv_v);
+  ov_count_.step(u > params_.supply_ov_v);
   if (first_step_) return;
-  if (uv_count_ >= 2) raise(FaultCause::under_voltage);
-  if (ov_count_ >= 2) raise(FaultCause::over_voltage);
+  if (uv_count_.at_least(2)) raise(FaultCause::under_voltage);
+  if (ov_count_.at_least(2)) raise(FaultCause::over_voltage);
   if (temperature_c() >= 110) raise(FaultCause::over_temperature);
   if (thermal_.energy() >= thermal_.energy_max()) raise(FaultCause::i2t);
   for (const FaultInfo& f : fault_table()) {

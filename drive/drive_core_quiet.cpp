@@ -20,7 +20,6 @@ namespace {
 
 // The longest stretch predicted in one call; a longer quiet period is asked again at its end.
 constexpr std::uint64_t k_thermal_horizon = 10000;
-constexpr int k_debounce_cap = 1 << 30;  // the counters only matter as ≥ 2
 
 bool bit_set(std::int64_t mfr, FaultCause cause) { return (mfr >> fault_info(cause).bit) & 1; }
 
@@ -53,8 +52,8 @@ bool DriveCore::resting() const {
   // step 3 would raise nothing new
   const std::int64_t mfr = this->mfr();
   const double u = supply_voltage();
-  if (u < params_.supply_uv_v && !(uv_count_ >= 2 && bit_set(mfr, FaultCause::under_voltage))) return false;
-  if (u > params_.supply_ov_v && !(ov_count_ >= 2 && bit_set(mfr, FaultCause::over_voltage))) return false;
+  if (u < params_.supply_uv_v && !(uv_count_.at_least(2) && bit_set(mfr, FaultCause::under_voltage))) return false;
+  if (u > params_.supply_ov_v && !(ov_count_.at_least(2) && bit_set(mfr, FaultCause::over_voltage))) return false;
   if (temperature_c() >= 110 && !bit_set(mfr, FaultCause::over_temperature)) return false;
   if (thermal_.energy() >= thermal_.energy_max() && !bit_set(mfr, FaultCause::i2t)) return false;
   for (const FaultInfo& f : fault_table()) {
@@ -119,11 +118,8 @@ void DriveCore::skip(std::uint64_t n) {
   if (!powered_ || n == 0) return;
   ctx_.time_ms += n;
   const double u = supply_voltage();
-  const auto add = [n](int c) {
-    return static_cast<int>(std::min<std::uint64_t>(static_cast<std::uint64_t>(c) + n, k_debounce_cap));
-  };
-  uv_count_ = u < params_.supply_uv_v ? add(uv_count_) : 0;
-  ov_count_ = u > params_.supply_ov_v ? add(ov_count_) : 0;
+  uv_count_.skip(u < params_.supply_uv_v, n);
+  ov_count_.skip(u > params_.supply_ov_v, n);
   const double i = std::fabs(static_cast<double>(current_permille_)) / 1000.0;
   for (std::uint64_t k = 0; k < n; ++k) {
     const double t0 = thermal_.temperature();

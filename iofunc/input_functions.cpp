@@ -141,11 +141,10 @@ void IoFunctions::set_home(int n) {
   apply_positive(h_.max_current, r.max_current);
   const std::int64_t speed = num(r.speed) > 0 ? num(r.speed) : num(h_.homing_speed);
   const std::int64_t accel = num(r.accel) > 0 ? num(r.accel) : num(h_.homing_accel);
-  const od::AbortCode c = helpers::go_home(drive(), static_cast<std::int8_t>(method), static_cast<std::uint32_t>(speed),
-                                           static_cast<std::uint32_t>(accel), static_cast<std::int32_t>(num(r.target)));
-  if (c != od::AbortCode::none) {
-    note(core::DiagnosticLevel::warning,
-         input_name(n) + ": homing not started (abort " + std::to_string(od::to_u32(c)) + ")");
+  const auto result = helpers::go_home(drive(), static_cast<std::int8_t>(method), static_cast<std::uint32_t>(speed),
+                                       static_cast<std::uint32_t>(accel), static_cast<std::int32_t>(num(r.target)));
+  if (!result.ok()) {
+    note(core::DiagnosticLevel::warning, input_name(n) + ": homing not started, " + helpers::describe(result));
   }
 }
 

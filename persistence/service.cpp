@@ -68,8 +68,9 @@ void Service::submit(Image img, od::Done done, std::function<void(bool ok)> afte
   const std::int64_t counter = next_counter_;
   expected_ = img;
   ++in_flight_;
-  storage_.write_state(text, [this, img = std::move(img), done = std::move(done), after = std::move(after),
-                              counter](std::optional<std::string> error) mutable {
+  storage_.write_state(text, [this, alive = alive_.watch(), img = std::move(img), done = std::move(done),
+                              after = std::move(after), counter](std::optional<std::string> error) mutable {
+    if (!alive) return;  // the drive is gone: nothing to update, nobody to answer
     --in_flight_;
     if (error) {
       if (hooks_.log_error) hooks_.log_error("store failed: " + *error);

@@ -6,6 +6,9 @@
 // OD write completes (done callback) when the file is durable or the write failed (0x06060000).
 // Requests run strictly in arrival order, each writing the snapshot of its own arrival. A restore
 // changes RAM only after its file is durable, so a failed restore changes nothing.
+// A completion that arrives after the service is gone (the drive was shut down and destroyed while a
+// file was being written) is dropped: the dictionary it would update and the caller it would answer
+// are gone with it.
 // Threading: every call and callback on the event-loop thread. PURE: the file write is the Storage's
 // (persistence/worker_storage.hpp in the server), the log lines go through the hooks.
 #pragma once
@@ -15,6 +18,7 @@
 #include <optional>
 #include <string>
 
+#include "base/liveness.hpp"
 #include "drive/od/dictionary.hpp"
 #include "persistence/state_document.hpp"
 
@@ -23,7 +27,8 @@ namespace mcemu::persistence {
 inline constexpr std::int64_t k_save = 0x65766173;  // "save"
 inline constexpr std::int64_t k_load = 0x64616F6C;  // "load"
 
-// Writes the state file; completion is delivered on the event-loop thread in request order.
+// Writes the state file; completion is delivered on the event-loop thread in request order (also
+// after the Service that asked is gone: it checks).
 class Storage {
  public:
   virtual ~Storage() = default;
@@ -76,6 +81,7 @@ class Service {
   nlohmann::json script_;
   std::int64_t next_counter_ = 0;
   std::size_t in_flight_ = 0;
+  base::LivenessToken alive_;  // the storage's completions check it
 };
 
 }  // namespace mcemu::persistence

@@ -31,6 +31,7 @@ void DriveUnit::bind_listeners() {
     o.max_clients = max_clients;
     o.close_on_overflow = close_on_overflow;
     o.idle_timeout = settings_.idle_timeout;
+    o.ids = conn_ids_;
     if (close_on_overflow) {
       o.pause_above = name == "faulhaber" ? device_->faulhaber_config().port.queue_limit_bytes
                                           : device_->slcan_config().queue_limit_bytes;

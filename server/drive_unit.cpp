@@ -167,6 +167,15 @@ void DriveUnit::wake() {
   }
 }
 
+DriveUnit::Ports DriveUnit::ports() const {
+  Ports p;
+  if (refgo_) p.refgo = refgo_->port();
+  if (slcan_) p.slcan = slcan_->port();
+  if (http_) p.http = http_->port();
+  if (udp_) p.udp = udp_->local_endpoint().port();
+  return p;
+}
+
 void DriveUnit::start() {
   const auto log_listen = [&](const char* name, const char* proto, std::uint16_t port) {
     spdlog::info("{}listening: {} {} {}:{}", log_prefix_, name, proto, settings_.bind, port);
@@ -230,6 +239,10 @@ void DriveUnit::shutdown() {
   shut_down_ = true;
   alive_.end();
   engine_.reset();  // kills a running script's process group
+  // The WebSocket hub goes with the HTTP server, before the bundle (members are destroyed in
+  // reverse order): nothing the bundle records from now on may reach it.
+  if (device_) device_->trace().set_listener({});
+  if (udp_debug_) udp_debug_->set_message_listener({});
   if (refgo_) refgo_->stop();
   if (slcan_) slcan_->stop();
   if (faulhaber_) faulhaber_->stop();

@@ -21,6 +21,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "base/connection_ids.hpp"
 #include "base/liveness.hpp"
 #include "device/device.hpp"
 #include "server/client_session.hpp"
@@ -89,6 +90,14 @@ class DriveUnit {
   // persistence.md §7: power loss and power-up in the running process; `done` when powered up.
   void power_cycle(std::function<void()> done);
   int number() const { return number_; }
+  // The ports the unit listens on (0: a service its personality does not have).
+  struct Ports {
+    std::uint16_t refgo = 0;
+    std::uint16_t slcan = 0;
+    std::uint16_t http = 0;
+    std::uint16_t udp = 0;
+  };
+  Ports ports() const;
 
   device::Device& device() { return *device_; }
   od::ObjectDictionary& od() { return device_->od(); }
@@ -150,7 +159,11 @@ class DriveUnit {
   ClockDriver* clock_ = nullptr;
   // Handlers that may run after the unit is gone (sessions, timers) hold a weak reference.
   base::LivenessToken alive_;
-  std::set<std::uint64_t> lit_http_;  // HTTP connections that count for LINK/ACT (morse-led.md §5.1)
+  std::set<std::uint64_t> lit_http_;
+  // One counter of connection ids for the RefGo, SLCAN and HTTP listeners: no two connections of
+  // this drive show the same `conn` in the trace (web.md §8.6).
+  std::shared_ptr<base::ConnectionIds> conn_ids_ =
+      std::make_shared<base::ConnectionIds>();  // HTTP connections that count for LINK/ACT (morse-led.md §5.1)
   bool shut_down_ = false;
 };
 

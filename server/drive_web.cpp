@@ -107,6 +107,7 @@ void DriveUnit::build_web(const asio::ip::address& address) {
 
   web::net::HttpOptions http_options;
   http_options.max_clients = settings_.http_max_clients;
+  http_options.ids = conn_ids_;
   if (settings_.idle_timeout.count() > 0) {
     http_options.idle_timeout = std::min<std::chrono::milliseconds>(http_options.idle_timeout, settings_.idle_timeout);
   }
@@ -132,8 +133,10 @@ void DriveUnit::build_web(const asio::ip::address& address) {
     sync();
     const std::string line =
         a.method.empty() ? std::string("(unreadable request)") : std::string(a.method) + " " + std::string(a.target);
-    device_->trace().record(trace::Channel::http, trace::Dir::rx, line, a.conn, a.peer);
-    device_->trace().record(trace::Channel::http, trace::Dir::tx, std::to_string(a.status), a.conn, a.peer);
+    trace::Flags flags;
+    flags.polling = a.polling;  // a page's own polling: the trace view can leave it out (web.md §8.6)
+    device_->trace().record(trace::Channel::http, trace::Dir::rx, line, a.conn, a.peer, flags);
+    device_->trace().record(trace::Channel::http, trace::Dir::tx, std::to_string(a.status), a.conn, a.peer, flags);
     // morse-led.md §5.1/§5.2: a connection counts for LINK/ACT from its first page request on;
     // page requests flicker the LED, /api/ requests do not.
     if (a.method.empty() || is_api(a.target)) return;
@@ -162,12 +165,15 @@ void DriveUnit::build_web(const asio::ip::address& address) {
 void DriveUnit::wire_websocket() {
   auto& hub = http_->ws_hub();
   web::net::WsSources sources;
-  sources.info = [this] { return router_->info_text(); };
-  sources.status = [this] {
+  // Like the HTTP handler, the sources never read a bundle that is shutting down or gone.
+  sources.info = [this, alive = alive_.watch()] { return alive ? router_->info_text() : std::string("{}"); };
+  sources.status = [this, alive = alive_.watch()] {
+    if (!alive) return std::string();
     sync();
     return router_->status_message();
   };
-  sources.scope = [this] {
+  sources.scope = [this, alive = alive_.watch()] {
+    if (!alive) return std::string();
     sync();
     auto block = device_->scope().take_new();
     return block.samples.empty() ? std::string() : device::scope_message(block);

@@ -126,6 +126,23 @@ std::string add_to_ipv4(const std::string& address, std::uint32_t offset, const 
          std::to_string((n >> 8) & 0xFF) + "." + std::to_string(n & 0xFF);
 }
 
+Settings dump_target(const Settings& process) {
+  auto drives = expand_fleet(process);
+  const std::string what = process.dump_eds ? "--dump-eds" : "--dump-od";
+  if (process.dump_drive) {
+    if (*process.dump_drive > drives.size()) {
+      throw UsageError("--drive " + std::to_string(*process.dump_drive) + ": this process has " +
+                       std::to_string(drives.size()) + (drives.size() == 1 ? " drive" : " drives"));
+    }
+    return drives[*process.dump_drive - 1];
+  }
+  if (drives.size() > 1) {
+    throw UsageError(what + ": this process has " + std::to_string(drives.size()) +
+                     " drives; choose the one to dump with --drive K (1 … " + std::to_string(drives.size()) + ")");
+  }
+  return drives.front();
+}
+
 std::vector<Settings> expand_fleet(const Settings& process) {
   std::vector<Settings> out;
   if (!process.fleet.empty()) {

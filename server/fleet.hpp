@@ -25,6 +25,12 @@ namespace mcemu::server {
 // that cannot be counted without --port-step, a bad fleet entry).
 std::vector<Settings> expand_fleet(const Settings& process);
 
+// The Settings of the drive whose dictionary --dump-od/--dump-eds print: drive K of --drive K, or
+// the one drive of the process. Throws UsageError when K is past the last drive, or when the
+// process has more than one drive and no --drive names one (their dictionaries differ: model,
+// config sections, the counted factory address 5007h).
+Settings dump_target(const Settings& process);
+
 // "127.0.0.255" + 1 → "127.0.1.0"; throws UsageError naming `what` on overflow.
 std::string add_to_ipv4(const std::string& address, std::uint32_t offset, const std::string& what);
 

@@ -14,6 +14,7 @@
 #include "protocols/canopen/eds.hpp"
 #include "server/app.hpp"
 #include "server/drive_image.hpp"
+#include "server/fleet.hpp"
 #include "server/settings.hpp"
 
 namespace {
@@ -72,10 +73,11 @@ int start(int argc, char** argv) {
       std::cout << "mcemu " << MCEMU_VERSION << "\n";
       return 0;
     }
-    if (settings.dump_od || settings.dump_eds) {  // the preset's dictionary; no state, no ports
-      const auto preset = mcemu::server::make_preset(settings);
+    if (settings.dump_od || settings.dump_eds) {                // the preset's dictionary; no state, no ports
+      const auto drive = mcemu::server::dump_target(settings);  // --drive K of --drives/--fleet
+      const auto preset = mcemu::server::make_preset(drive);
       mcemu::od::ObjectDictionary od(preset);
-      mcemu::server::apply_config_objects(od, settings.config);
+      mcemu::server::apply_config_objects(od, drive.config);
       if (settings.dump_eds) {
         std::cout << mcemu::canopen::make_eds(od, mcemu::server::eds_info(preset));
       } else {

@@ -249,6 +249,16 @@ Settings parse_command_line(const std::vector<std::string>& args) {
                                   : s.dump_eds) = true;
       continue;
     }
+    if (name == "drive") {  // not a config key: it only selects what a dump prints
+      if (!value) {
+        if (i + 1 >= args.size()) throw UsageError("option --drive needs a value");
+        value = args[++i];
+      }
+      const auto k = parse_uint(*value, k_max_drives, "--drive");
+      if (k == 0) throw UsageError("invalid value '0' for --drive (drives are counted from 1)");
+      s.dump_drive = static_cast<std::size_t>(k);
+      continue;
+    }
     if (!k_value_flags.count(name)) throw UsageError("unknown option --" + name + " (see --help)");
     if (!value) {
       if (i + 1 >= args.size()) throw UsageError("option --" + name + " needs a value");
@@ -258,6 +268,9 @@ Settings parse_command_line(const std::vector<std::string>& args) {
     given.push_back(name);
   }
   if (s.help || s.version) return s;
+  if (s.dump_drive && !s.dump_od && !s.dump_eds) {
+    throw UsageError("--drive K selects the drive whose dictionary --dump-od or --dump-eds prints");
+  }
   if (s.config_file) {
     // Re-apply command-line values after the config so that they win.
     apply_config(s, read_json_file(*s.config_file, "config file"), given);
@@ -320,6 +333,8 @@ Usage: mcemu [options]
                       (command line only; docs/security.md)
   --dump-od           print the object dictionary of the model as JSON and exit
   --dump-eds          print the model's CANopen EDS (CiA 306) and exit, e.g. for python-canopen
+  --drive K           with --dump-od/--dump-eds and --drives/--fleet: dump drive K (its model and
+                      config); a process of more than one drive needs it
   --version           print the version and exit
   --help              print this text and exit
 )";

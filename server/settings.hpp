@@ -58,6 +58,9 @@ struct Settings {
   std::string api_token;
   bool dump_od = false;
   bool dump_eds = false;
+  // --drive K: the drive of --drives/--fleet whose dictionary --dump-od/--dump-eds print (1-based;
+  // command line only, and only with a dump: server/fleet.hpp dump_target()).
+  std::optional<std::size_t> dump_drive;
   bool help = false;
   bool version = false;
   // The config document (sections "objects", "model_overrides", "plant", "homing", "slcan",

@@ -86,7 +86,7 @@ Ring::Result Ring::query(const Query& q) const {
   std::size_t i = since > oldest ? static_cast<std::size_t>(since - oldest) : 0;
   for (; i < events_.size(); ++i) {
     const Event& e = at(i);
-    if (!q.channels.contains(e.channel)) continue;
+    if (!q.channels.contains(e.channel) || (q.exclude_polling && e.flags.polling)) continue;
     if (r.events.size() == q.limit) {
       r.next_seq = e.seq;  // the first event not returned
       return r;

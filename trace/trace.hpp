@@ -47,6 +47,7 @@ struct Flags {
   bool to_script = false;
   bool discarded = false;
   bool ignored = false;
+  bool polling = false;  // an HTTP request the pages repeat on a timer (header X-Mcemu-Poll, web.md §8.6)
 };
 
 struct Event {
@@ -83,6 +84,7 @@ class Ring {
     std::uint64_t since = 0;  // first seq wanted
     ChannelSet channels;
     std::size_t limit = 500;
+    bool exclude_polling = false;  // leave out the events marked `polling`
   };
   struct Result {
     std::vector<Event> events;

@@ -14,6 +14,14 @@ std::int64_t get(const DriveRef& d, std::uint16_t index, std::uint8_t sub = 0) {
   return r.ok() ? *r : 0;
 }
 
+// Upper-case hex of `digits` digits ("609A", "00").
+std::string hex(std::uint32_t v, int digits) {
+  static constexpr char k_hex[] = "0123456789ABCDEF";
+  std::string s(static_cast<std::size_t>(digits), '0');
+  for (int i = 0; i < digits; ++i) s[static_cast<std::size_t>(digits - 1 - i)] = k_hex[(v >> (4 * i)) & 0xF];
+  return s;
+}
+
 std::uint16_t controlword(const DriveRef& d) { return static_cast<std::uint16_t>(get(d, 0x6040)); }
 
 // "Applied at once for helpers" (§12): write 6060h and switch the mode before the next edge.
@@ -134,20 +142,35 @@ od::AbortCode go_vel(const DriveRef& d, std::int32_t velocity) {
   return put(d, 0x60FF, 0, velocity);
 }
 
-od::AbortCode go_home(const DriveRef& d, std::int8_t method, std::uint32_t speed, std::uint32_t acceleration,
-                      std::int32_t offset) {
+std::string describe(const HelperResult& r) {
+  if (r.ok()) return "ok";
+  const std::string code = hex(od::to_u32(r.code), 8) + "h";
+  if (!r.refused) {
+    return (r.code == od::AbortCode::device_state ? "Operation enabled not reached, " : "refused, ") + code;
+  }
+  return hex(r.refused->index, 4) + "h." + hex(r.refused->sub, 2) + "h := " + std::to_string(r.refused->value) +
+         " refused, " + code;
+}
+
+HelperResult go_home(const DriveRef& d, std::int8_t method, std::uint32_t speed, std::uint32_t acceleration,
+                     std::int32_t offset) {
+  const auto refused = [](od::AbortCode c, std::uint16_t index, std::uint8_t sub, std::int64_t value) {
+    return HelperResult{c, HelperResult::Write{index, sub, value}};
+  };
   for (const auto& [index, sub, value] : {std::tuple<std::uint16_t, std::uint8_t, std::int64_t>{0x6098, 0, method},
                                           {0x6099, 1, speed},
                                           {0x609A, 0, acceleration},
                                           {0x607C, 0, offset}}) {
-    if (const auto c = put(d, index, sub, value); c != od::AbortCode::none) return c;
+    if (const auto c = put(d, index, sub, value); c != od::AbortCode::none) return refused(c, index, sub, value);
   }
-  if (const auto c = ensure_mode(d, 6); c != od::AbortCode::none) return c;
-  if ((method == 35 || method == 37) && d.core.state() != PdsState::operation_enabled) return d.core.set_home_here();
-  if (!autoenable(d)) return od::AbortCode::device_state;
+  if (const auto c = ensure_mode(d, 6); c != od::AbortCode::none) return refused(c, 0x6060, 0, 6);
+  if ((method == 35 || method == 37) && d.core.state() != PdsState::operation_enabled) {
+    return HelperResult{d.core.set_home_here(), std::nullopt};
+  }
+  if (!autoenable(d)) return HelperResult{od::AbortCode::device_state, std::nullopt};
   write_control(d, 0x000F);
   write_control(d, 0x001F);
-  return od::AbortCode::none;
+  return HelperResult{};
 }
 
 od::AbortCode set_target_pos(const DriveRef& d, std::int32_t v) { return put(d, 0x607A, 0, v); }

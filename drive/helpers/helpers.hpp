@@ -11,6 +11,8 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <string>
 
 #include "drive/drive_core.hpp"
 #include "drive/od/dictionary.hpp"
@@ -41,9 +43,26 @@ bool autoenable(const DriveRef& d);
 od::AbortCode go_pos_abs(const DriveRef& d, std::int32_t position);  // GoPosAbs
 od::AbortCode go_pos_rel(const DriveRef& d, std::int32_t distance);  // GoPosRel
 od::AbortCode go_vel(const DriveRef& d, std::int32_t velocity);      // GoVel
-// GoHome(method, 6099h.01, 609Ah, 607Ch)
-od::AbortCode go_home(const DriveRef& d, std::int8_t method, std::uint32_t speed, std::uint32_t acceleration,
-                      std::int32_t offset);
+// What a helper that writes several entries did, naming the write the dictionary refused — its
+// caller reports which one (drive-core.md §12) instead of an abort code alone. Compares equal to
+// its AbortCode.
+struct HelperResult {
+  struct Write {
+    std::uint16_t index = 0;
+    std::uint8_t sub = 0;
+    std::int64_t value = 0;
+  };
+  od::AbortCode code = od::AbortCode::none;  // none, the refused write's code, or device_state
+  std::optional<Write> refused;              // the write that was refused (code is its abort code)
+  bool ok() const { return code == od::AbortCode::none; }
+  friend bool operator==(const HelperResult& r, od::AbortCode c) { return r.code == c; }
+};
+// "ok", "609Ah.00h := 0 refused, 06090032h", "Operation enabled not reached, 08000022h".
+std::string describe(const HelperResult& r);
+
+// GoHome(method, 6099h.01, 609Ah, 607Ch): the first refused write ends it and is named.
+HelperResult go_home(const DriveRef& d, std::int8_t method, std::uint32_t speed, std::uint32_t acceleration,
+                     std::int32_t offset);
 
 od::AbortCode set_target_pos(const DriveRef& d, std::int32_t v);  // 607Ah
 od::AbortCode set_pos_vel(const DriveRef& d, std::uint32_t v);    // 6081h

@@ -83,7 +83,13 @@ std::vector<can::Frame> Node::finish() {
 
 std::vector<can::Frame> Node::on_frame(const can::Frame& f, Millis now) {
   begin(now);
-  if (state_ == NmtState::initialising || f.extended) return finish();
+  if (f.extended) return finish();
+  if (state_ == NmtState::initialising) {
+    // slcan-canopen.md §4.4: frames are ignored until the boot-up, except a reset node or reset
+    // communication of this node, which is executed (the boot-up delay starts again).
+    if (f.id == 0 && !f.rtr && f.dlc == 2 && (f.data[0] == 0x81 || f.data[0] == 0x82)) on_nmt(f);
+    return finish();
+  }
   const std::uint32_t sync_id = cob(0x1005, 0, 0x80) & 0x7FF;
   const std::uint32_t sdo_id = cob(0x1200, 1, 0x600) & 0x7FF;
   if (f.id == 0 && !f.rtr) {

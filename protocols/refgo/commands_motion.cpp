@@ -90,7 +90,8 @@ Outcome home(Interpreter& in, const Call& c) {
   }
   return motion_result(
       helpers::go_home(d, static_cast<std::int8_t>(*c.arg), static_cast<std::uint32_t>(read(in, 0x6099, 1)),
-                       static_cast<std::uint32_t>(read(in, 0x609A)), static_cast<std::int32_t>(read(in, 0x607C))));
+                       static_cast<std::uint32_t>(read(in, 0x609A)), static_cast<std::int32_t>(read(in, 0x607C)))
+          .code);
 }
 
 Outcome jog_positive(Interpreter& in, const Call& c) { return jog(in, c, true); }

@@ -125,8 +125,11 @@ std::optional<Values> go_home(CallContext& c, std::span<const Value> a, Later&) 
   put(c, "GoHome", 0x6099, 1, num(a, 1));
   put(c, "GoHome", 0x609A, 0, num(a, 2));
   put(c, "GoHome", 0x607C, 0, num(a, 3));
-  h::go_home(c.drive, static_cast<std::int8_t>(num(a, 0)), static_cast<std::uint32_t>(get(c, 0x6099, 1)),
-             static_cast<std::uint32_t>(get(c, 0x609A)), static_cast<std::int32_t>(get(c, 0x607C)));
+  const auto result =
+      h::go_home(c.drive, static_cast<std::int8_t>(num(a, 0)), static_cast<std::uint32_t>(get(c, 0x6099, 1)),
+                 static_cast<std::uint32_t>(get(c, 0x609A)), static_cast<std::int32_t>(get(c, 0x607C)));
+  // A write of the helper itself refused (e.g. 6060h := 6): named like the parameter writes above.
+  if (result.refused && c.refused) c.refused("GoHome: " + h::describe(result));
   return none();
 }
 

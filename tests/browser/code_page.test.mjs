@@ -90,3 +90,46 @@ test('Code page: upload through the form, RUN, Script Viewer with #private, auto
   g.assertClean();
   await g.close();
 });
+
+// web.md §6.1, issue 23: a refused upload shows its error inside the page — in the upload section
+// under the controls, below the menu bar and the heading — whether the page refuses it (no file
+// chosen) or the server does (an empty file: 400 with the Code page and the note).
+test('Code page: an upload error appears inside the page, under the upload controls (§6.1)', async () => {
+  const g = await openPage(browser, emu, '/program.html', { allow: [{ url: /\/program\.html$/, status: 400 }] });
+  const { page } = g;
+  const note = page.locator('#code-error');
+  // where it must be: inside <main>, inside the upload form after the file hint, below the menu bar
+  const placed = async (what) => {
+    assert.equal(await note.count(), 1, what);
+    assert.ok(await note.isVisible(), what);
+    const inForm = await note.evaluate((el) => !!el.closest('main #code-form') && !!(el.compareDocumentPosition(document.getElementById('code-file-hint')) & Node.DOCUMENT_POSITION_PRECEDING));
+    assert.ok(inForm, `${what}: in the upload form, after the hint`);
+    const bar = await page.locator('#menubar').boundingBox();
+    const heading = await page.locator('main h1').boundingBox();
+    const box = await note.boundingBox();
+    assert.ok(box.y >= bar.y + bar.height && box.y > heading.y + heading.height, `${what}: below the menu bar and the heading (${JSON.stringify({ bar, heading, box })})`);
+  };
+
+  // Upload without a file: the page's own refusal
+  assert.equal(await note.count(), 0);
+  await page.locator('#code-upload').click();
+  await waitFor(async () => (await note.count()) === 1, { what: 'the note' });
+  assert.equal(await note.textContent(), 'Please select *.py script file to upload');
+  await placed('no file');
+  assert.equal(await page.locator('#page-error').count(), 0, 'not the page-wide message above the content');
+
+  // An empty file: the server refuses it (400) and answers the Code page with the note in place
+  const [chooser] = await Promise.all([page.waitForEvent('filechooser'), page.locator('#code-file').click()]);
+  await chooser.setFiles({ name: 'empty.py', mimeType: 'text/x-python', buffer: Buffer.alloc(0) });
+  const [upload] = await Promise.all([
+    page.waitForResponse((r) => r.request().method() === 'POST' && new URL(r.url()).pathname === '/program.html'),
+    page.locator('#code-upload').click(),
+  ]);
+  assert.equal(upload.status(), 400);
+  await page.waitForLoadState('load');
+  assert.equal(await note.textContent(), 'upload refused: the script file is empty');
+  await placed('refused by the server');
+  await screenshot(page, 'program-upload-error');
+  g.assertClean();
+  await g.close();
+});

@@ -172,6 +172,24 @@ test('console, trace with filters, settings, power cycle, about (§5.9)', async 
   assert.equal(await page.locator('#emu-trace div[data-channel="api"]').count(), 0);
   await page.locator('#emu-trace-ch-http').check();
   await waitFor(async () => (await page.locator('#emu-trace div[data-channel="http"]', { hasText: 'GET /api/v1/' }).count()) > 0, { what: 'http events' });
+  // the pages' own polling (X-Mcemu-Poll, web.md §8.6) is left out while "hide the pages' polling"
+  // is checked: the server has traced the page's GET /api/v1/io polls, the view shows none of them
+  assert.equal(await page.locator('#emu-trace-polling').isChecked(), true, 'hidden by default');
+  const polls = async () => (await emu.get('/api/v1/trace?channels=http&limit=10000')).events.filter((e) => e.polling && e.text === 'GET /api/v1/io');
+  const before = (await polls()).length;
+  await waitFor(async () => (await polls()).length > before, { what: 'a poll of /api/v1/io traced after the check' });
+  await emu.get('/api/v1/clock');  // a request of the test's own after it: the view has caught up once it shows
+  await waitFor(async () => (await page.locator('#emu-trace div[data-channel="http"]', { hasText: 'GET /api/v1/clock' }).count()) > 0, { what: 'the test\'s own request' });
+  const shown = new Set(await page.locator('#emu-trace div[data-channel="http"]').evaluateAll((rows) => rows.map((r) => r.dataset.seq)));
+  const hidden = (await polls()).map((e) => String(e.seq));
+  assert.ok(hidden.length > 0);
+  assert.deepEqual(hidden.filter((seq) => shown.has(seq)), [], 'no polling shown');
+  assert.equal(await page.locator('#emu-trace div[data-channel="http"]', { hasText: '[polling]' }).count(), 0);
+  await page.locator('#emu-trace-polling').uncheck();
+  await waitFor(async () => (await page.locator('#emu-trace div[data-channel="http"]', { hasText: /GET \/api\/v1\/io \[polling\]$/ }).count()) > 0, { what: 'the polling shown when asked for' });
+  await screenshot(page, 'emulator-trace-polling');
+  await page.locator('#emu-trace-polling').check();
+  await waitFor(async () => (await page.locator('#emu-trace div[data-channel="http"]', { hasText: '[polling]' }).count()) === 0, { what: 'hidden again' });
   await page.locator('#emu-trace-ch-http').uncheck();
   await page.locator('#emu-trace-ch-api').check();
   await waitFor(async () => (await page.locator('#emu-trace div[data-channel="api"]', { hasText: '6081h.00h = 1111' }).count()) > 0, { what: 'api back' });

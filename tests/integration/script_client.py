@@ -8,14 +8,11 @@
 - `UdpConsole`: a UDP 14999 listener (as Docklight or Fullmo's UdpMonitor) that registers with "\\r"
   and collects every datagram.
 - `RefGo`: one TCP RefGo client with request/reply by prompt.
-- `WebSocket`: a minimal RFC 6455 client for /api/v1/ws (text frames, masked sends).
+The WebSocket client of every integration test is ws_client.py.
 Every wait is bounded and polls; nothing sleeps a fixed time where a condition can be polled.
 """
-import base64
-import json
 import os
 import socket
-import struct
 import time
 
 UPLOAD_FIELD = "Python script file for MovingCap CODE"
@@ -193,73 +190,6 @@ class RefGo:
     def tp(self):
         reply = self.request("TP")
         return int(reply.split(b"\r\n")[1])
-
-    def close(self):
-        self.sock.close()
-
-
-class WebSocket:
-    """A minimal RFC 6455 client: the handshake, text frames from the server, masked text frames."""
-
-    def __init__(self, port, path="/api/v1/ws", address="127.0.0.1"):
-        self.sock = socket.create_connection((address, port), timeout=10)
-        key = base64.b64encode(os.urandom(16)).decode()
-        self.sock.sendall(("GET %s HTTP/1.1\r\nHost: %s:%d\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-                           "Sec-WebSocket-Key: %s\r\nSec-WebSocket-Version: 13\r\n\r\n" %
-                           (path, address, port, key)).encode())
-        data = b""
-        while b"\r\n\r\n" not in data:
-            chunk = self.sock.recv(4096)
-            if not chunk:
-                raise ConnectionError("WebSocket handshake: connection closed")
-            data += chunk
-        head, _, self.buf = data.partition(b"\r\n\r\n")
-        if not head.startswith(b"HTTP/1.1 101"):
-            raise ConnectionError("WebSocket handshake refused: %r" % head)
-
-    def _need(self, n, deadline):
-        while len(self.buf) < n:
-            left = deadline - time.monotonic()
-            if left <= 0:
-                raise TimeoutError("WebSocket: no frame in time")
-            self.sock.settimeout(left)
-            chunk = self.sock.recv(65536)
-            if not chunk:
-                raise ConnectionError("WebSocket closed")
-            self.buf += chunk
-
-    def recv(self, timeout=5.0):
-        """The next text message as JSON (control frames are skipped; pings are answered)."""
-        deadline = time.monotonic() + timeout
-        while True:
-            self._need(2, deadline)
-            b0, b1 = self.buf[0], self.buf[1]
-            n, off = b1 & 0x7F, 2
-            if n == 126:
-                self._need(4, deadline)
-                n, off = struct.unpack(">H", self.buf[2:4])[0], 4
-            elif n == 127:
-                self._need(10, deadline)
-                n, off = struct.unpack(">Q", self.buf[2:10])[0], 10
-            self._need(off + n, deadline)
-            payload, self.buf = self.buf[off:off + n], self.buf[off + n:]
-            opcode = b0 & 0x0F
-            if opcode == 0x9:
-                self._send(0xA, payload)
-            elif opcode == 0x1:
-                return json.loads(payload)
-            elif opcode == 0x8:
-                raise ConnectionError("WebSocket closed by the server")
-
-    def _send(self, opcode, payload):
-        mask = os.urandom(4)
-        n = len(payload)
-        head = bytes([0x80 | opcode])
-        head += bytes([0x80 | n]) if n < 126 else bytes([0x80 | 126]) + struct.pack(">H", n)
-        self.sock.sendall(head + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(payload)))
-
-    def send_json(self, obj):
-        self._send(0x1, json.dumps(obj).encode())
 
     def close(self):
         self.sock.close()

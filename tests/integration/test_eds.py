@@ -125,6 +125,37 @@ class Eds(unittest.TestCase):
             self.assertEqual(r.returncode, 0, r.stderr)
             self.assertEqual(int(parse(r.stdout)["6083"]["DefaultValue"], 0), 2500)
 
+    def test_fleet_dumps_the_drive_named_by_drive(self):
+        """--dump-eds/--dump-od honour --fleet: --drive K dumps drive K (its model and its config);
+        a process of more than one drive without --drive is a usage error naming --drive."""
+        with tempfile.TemporaryDirectory() as d:
+            fleet = os.path.join(d, "fleet.json")
+            with open(fleet, "w") as f:
+                f.write('[{"model": "MC349"}, {"model": "MCFLAT", "objects": {"6083.00": 2500}}]')
+            r = subprocess.run([MCEMU, "--dump-eds", "--fleet", fleet, "--drive", "2"], capture_output=True,
+                               text=True, timeout=30)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            eds = parse(r.stdout)
+            self.assertEqual(eds["FileInfo"]["FileName"], "MCFLAT.eds")
+            self.assertEqual(int(eds["6083"]["DefaultValue"], 0), 2500)
+            r = subprocess.run([MCEMU, "--dump-eds", "--fleet", fleet, "--drive=1"], capture_output=True,
+                               text=True, timeout=30)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(parse(r.stdout)["FileInfo"]["FileName"], "MC349.eds")
+            self.assertEqual(int(parse(r.stdout)["6083"]["DefaultValue"], 0), 1000)
+            r = subprocess.run([MCEMU, "--dump-od", "--fleet", fleet, "--drive", "2"], capture_output=True,
+                               text=True, timeout=30)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn('"MCFLAT"', r.stdout)
+            for args, needle in ((["--dump-eds", "--fleet", fleet], "--drive K"),
+                                 (["--dump-eds", "--drives", "3"], "--drive K"),
+                                 (["--dump-eds", "--fleet", fleet, "--drive", "3"], "has 2 drives"),
+                                 (["--fleet", fleet, "--drive", "2"], "--dump-od or --dump-eds")):
+                r = subprocess.run([MCEMU] + args, capture_output=True, text=True, timeout=30)
+                self.assertEqual(r.returncode, 2, args)
+                self.assertEqual(r.stdout, "", args)
+                self.assertIn(needle, r.stderr, args)
+
     def test_python_canopen_imports_it_where_available(self):
         try:
             import canopen  # noqa: F401 - not a Debian package (slcan-canopen.md §12 EDS-01)

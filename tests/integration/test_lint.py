@@ -1,4 +1,5 @@
-"""The dependency lint of tools/lint_deps.sh finds each kind of violation (and passes on the repo)."""
+"""The dependency lint of tools/lint_deps.sh finds each kind of violation (and passes on the repo);
+and the tests' own hygiene: one WebSocket client for every test (ws_client.py)."""
 import os
 import shutil
 import subprocess
@@ -47,6 +48,25 @@ class Lint(unittest.TestCase):
             with open(full, "w") as f:
                 f.write('#include <boost/asio/io_context.hpp>\n#include <spdlog/spdlog.h>\n')
             self.assertEqual(lint(tmp).returncode, 0)
+
+
+class TestClients(unittest.TestCase):
+    def test_one_websocket_client(self):
+        """Issue 23: the integration tests share one WebSocket client, ws_client.py; no other test file
+        of Python or JavaScript does a handshake of its own (the browser tests use the browser's)."""
+        needles = ("258EAFA5-" + "E914-47DA-95CA-C5AB0DC85B11", "Sec-WebSocket-" + "Key")  # not found in this file
+        handshakes = []
+        for dirpath, dirs, files in os.walk(os.path.join(ROOT, "tests")):
+            dirs[:] = [d for d in dirs if d != "node_modules"]
+            for name in files:
+                if not name.endswith((".py", ".mjs", ".js")):
+                    continue
+                path = os.path.join(dirpath, name)
+                with open(path, encoding="utf-8", errors="replace") as f:
+                    text = f.read()
+                if any(n in text for n in needles):
+                    handshakes.append(os.path.relpath(path, ROOT))
+        self.assertEqual(handshakes, [os.path.join("tests", "integration", "ws_client.py")])
 
 
 if __name__ == "__main__":

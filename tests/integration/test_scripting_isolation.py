@@ -11,7 +11,8 @@ import time
 import unittest
 
 from mcemu_harness import SANITIZED, Mcemu, wait_for
-from script_client import RefGo, UdpConsole, WebSocket
+from script_client import RefGo, UdpConsole
+from ws_client import WebSocket
 
 
 def rss_kib(pid):
@@ -54,7 +55,7 @@ class Isolation(unittest.TestCase):
         self.udp = UdpConsole(self.m.ports["udp"])
         self.rg = RefGo(self.m.ports["refgo"])
         self.ws = WebSocket(self.m.ports["http"])
-        self.assertEqual(self.ws.recv()["type"], "hello")
+        self.assertEqual(self.ws.recv_json()["type"], "hello")
 
     def tearDown(self):
         self.m.http("POST", "/api/v1/script/stop", {})
@@ -93,7 +94,7 @@ class Isolation(unittest.TestCase):
         statuses = 0
         deadline = time.monotonic() + 1.0
         while time.monotonic() < deadline:
-            if self.ws.recv(timeout=2)["type"] == "status":
+            if self.ws.recv_json(timeout=2)["type"] == "status":
                 statuses += 1
         self.assertGreaterEqual(statuses, 3, "the WebSocket status stream keeps coming (20 Hz nominal)")
 

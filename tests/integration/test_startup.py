@@ -114,6 +114,78 @@ class Shutdown(unittest.TestCase):
             m.__exit__(None, None, None)
 
 
+class ShutdownUnderLoad(unittest.TestCase):
+    """Issue 23: SIGTERM while clients keep sending — HTTP requests (a Store among them, its file in
+    the middle of being written), a WebSocket with status, scope and trace, RefGo and SLCAN lines.
+    mcemu exits 0 at once and cleanly: nothing touches the drive once it is gone (the sanitizer
+    build turns any such touch into a report, which fails the test, mcemu_harness.py)."""
+
+    def test_sigterm_while_every_client_keeps_sending(self):
+        import threading
+        import http.client
+        from ws_client import WebSocket
+        for attempt in range(3):
+            # each chunk of the state file takes 20 ms: a Store is being written when the signal comes
+            m = Mcemu(env={"MCEMU_TEST_STORE_DELAY_US": "20000"})
+            stop = threading.Event()
+
+            def http_loop(path, method="GET", body=None):
+                while not stop.is_set():
+                    try:
+                        c = http.client.HTTPConnection("127.0.0.1", m.ports["http"], timeout=5)
+                        while not stop.is_set():
+                            c.request(method, path, body=body, headers={"Content-Type": "application/json"})
+                            c.getresponse().read()
+                    except (OSError, http.client.HTTPException):
+                        pass  # the server went away: expected at shutdown
+
+            def line_loop(port, line):
+                try:
+                    s = connect(port)
+                    s.settimeout(5)
+                    while not stop.is_set():
+                        s.sendall(line)
+                        if not s.recv(4096):
+                            return
+                except OSError:
+                    pass
+
+            def ws_loop():
+                try:
+                    ws = WebSocket(m.ports["http"])
+                    ws.send_json({"subscribe": ["status", "scope", "trace"]})
+                    while not stop.is_set():
+                        ws.recv_json(timeout=5)
+                except (OSError, ConnectionError, ValueError):
+                    pass
+
+            threads = [threading.Thread(target=f, args=a, daemon=True) for f, a in [
+                (http_loop, ("/api/v1/status",)),
+                (http_loop, ("/api/v1/objects/6083/0", "PUT", b'{"value": 1500}')),
+                (http_loop, ("/api/v1/store", "POST", b"{}")),
+                (http_loop, ("/api/v1/trace?limit=100",)),
+                (line_loop, (m.ports["refgo"], b"TP\r")),
+                (line_loop, (m.ports["slcan"], b"t63284041600000000000\r")),
+                (ws_loop, ()),
+            ]]
+            for t in threads:
+                t.start()
+            # traffic on every channel, and a Store in the middle of its file
+            wait_for(lambda: any(f.endswith(".tmp") for f in os.listdir(m.state_dir)) if os.path.isdir(m.state_dir)
+                     else False, what="a Store being written")
+            status, body = m.http("GET", "/api/v1/trace?channels=refgo,slcan,http&limit=10000")
+            channels = {e["channel"] for e in json.loads(body)["events"]}
+            self.assertEqual(channels, {"refgo", "slcan", "http"}, f"attempt {attempt}")
+            rc = m.terminate(signal.SIGTERM, timeout=20)
+            stop.set()
+            for t in threads:
+                t.join(timeout=10)
+                self.assertFalse(t.is_alive(), "every client sees the end")
+            self.assertEqual(rc, 0, m.log()[-4000:])
+            self.assertTrue(m.has_line("stopped"))
+            m.__exit__(None, None, None)  # fails on a sanitizer report
+
+
 class ConnectionLimits(unittest.TestCase):
     def check_limit(self, m, service, limit):
         held = [connect(m.ports[service]) for _ in range(limit)]

@@ -78,6 +78,59 @@ class SlcanTrace(unittest.TestCase):
             self.assertTrue(all(f.timestamp > 1.6e9 for f in frames), "wall-clock stamps")
 
 
+class ConnectionIds(unittest.TestCase):
+    def test_one_counter_per_drive_across_channels(self):
+        """A drive's RefGo, SLCAN and HTTP listeners share one counter of connection ids, so a `conn`
+        in the trace names one connection whatever its channel (web.md §8.6)."""
+        with Mcemu() as m:
+            with Nc(m.ports["refgo"]) as nc:
+                nc.request("TP")
+            c = Client(m.ports["slcan"])
+            try:
+                c.upload(0x6041, 0)
+            finally:
+                c.close()
+            m.http("GET", "/api/v1/status")
+            with Nc(m.ports["refgo"]) as nc:
+                nc.request("TP")
+
+            def connects():
+                ev = events(m, "refgo,slcan,http")
+                found = [(e["channel"], e["conn"]) for e in ev if e["dir"] == "event" and e["text"] == "connect"]
+                return found if {ch for ch, _ in found} == {"refgo", "slcan", "http"} and \
+                    sum(ch == "refgo" for ch, _ in found) == 2 else None
+
+            found = wait_for(connects, what="connect events of every channel")
+            conns = [conn for _, conn in found]
+            self.assertEqual(len(conns), len(set(conns)), found)
+            self.assertEqual(sorted(conns), list(range(1, len(conns) + 1)), "counted from 1 without gaps")
+
+
+class HttpPolling(unittest.TestCase):
+    def test_the_pages_polling_is_marked_and_can_be_left_out(self):
+        """web.md §8.6: requests with the header X-Mcemu-Poll (the pages' timers) are marked
+        "polling" on the http channel, and GET /api/v1/trace?excludePolling=1 leaves them out."""
+        import urllib.request
+        with Mcemu() as m:
+            base = f"http://127.0.0.1:{m.ports['http']}"
+            for _ in range(3):
+                req = urllib.request.Request(base + "/api/v1/status", headers={"X-Mcemu-Poll": "1"})
+                with urllib.request.urlopen(req, timeout=10) as r:
+                    r.read()
+            m.http("GET", "/api/v1/info")
+            ev = wait_for(lambda: [e for e in events(m, "http") if e["text"] == "GET /api/v1/info"] and
+                          events(m, "http"), what="the info request in the trace")
+            polled = [e for e in ev if e.get("polling")]
+            self.assertEqual([(e["dir"], e["text"]) for e in polled], [("rx", "GET /api/v1/status"), ("tx", "200")] * 3)
+            self.assertFalse(any(e.get("polling") for e in ev if e["text"] == "GET /api/v1/info"))
+            status, body = m.http("GET", "/api/v1/trace?channels=http&limit=10000&excludePolling=1")
+            self.assertEqual(status, 200)
+            kept = json.loads(body)["events"]
+            self.assertFalse(any(e.get("polling") for e in kept))
+            self.assertNotIn("GET /api/v1/status", [e["text"] for e in kept])
+            self.assertIn("GET /api/v1/info", [e["text"] for e in kept])
+
+
 class UdpAndDriveTrace(unittest.TestCase):
     def test_datagrams_both_ways_with_the_ignored_flag_and_registration_time(self):
         with Mcemu() as m:

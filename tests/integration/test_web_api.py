@@ -168,8 +168,15 @@ class WebApi(unittest.TestCase):
                     self.assertEqual(status, 400, f"{method} {path}: refused, so the walk changed nothing")
                 self.assertFalse(status == 404 and headers.get("content-type", "").startswith("text/html"),
                                  f"{method} {path} is not routed")
-        # and the reverse: a path that is not in the document is the 404 page
-        status, headers, data = self.c.request("GET", "/api/v1/not-a-route")
+                self.assertNotIn(b"no API route", data, f"{method} {path} is not routed")
+        # and the reverse: a path under /api/ that is not in the document is a JSON 404 (web.md §1.4:
+        # API clients parse JSON); a page that does not exist is the HTML 404 page
+        for method in ("GET", "POST", "DELETE"):
+            status, headers, data = self.c.request(method, "/api/v1/not-a-route", {} if method == "POST" else None)
+            self.assertEqual(headers["content-type"], "application/json", method)
+            self.assert_error(status, json.loads(data), 404, "not-found")
+            self.assertIn("/api/v1/not-a-route", json.loads(data)["error"]["message"])
+        status, headers, data = self.c.request("GET", "/not-a-page.html")
         self.assertEqual(status, 404)
         self.assertTrue(headers["content-type"].startswith("text/html"))
         self.assertIn(b"/index.html", data)
@@ -180,6 +187,14 @@ class WebApi(unittest.TestCase):
         self.assert_error(status, body, 400, "syntax")
         status, body = self.c.json("POST", "/api/v1/refgo", {"line": "TP\r"})
         self.assert_error(status, body, 400, "syntax")
+
+    def test_400_range(self):
+        """The JSON API is strict (object-dictionary.md §3.2): -1 to an UNSIGNED32 is a 400, not 0xFFFFFFFF."""
+        before = self.c.json("GET", "/api/v1/objects/6083/0")[1]["value"]
+        status, body = self.c.json("PUT", "/api/v1/objects/6083/0", {"value": -1})
+        self.assert_error(status, body, 400, "range")
+        self.assertEqual(body["error"]["abortCode"], "06090032h")
+        self.assertEqual(self.c.json("GET", "/api/v1/objects/6083/0")[1]["value"], before, "nothing stored")
 
     def test_404_object(self):
         status, body = self.c.json("GET", "/api/v1/objects/7000/0")

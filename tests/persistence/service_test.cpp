@@ -122,6 +122,18 @@ TEST(Store, RequestsRunInOrderWithTheirOwnSnapshots) {
   EXPECT_EQ(f.n(0x5006, 5), 10);
 }
 
+// A completion that arrives after the service is gone (the drive shut down and was destroyed while
+// its file was written) is dropped: it answers nobody and touches nothing.
+TEST(Store, ACompletionAfterTheServiceIsGoneIsDropped) {
+  Fixture f;
+  std::vector<AbortCode> results;
+  EXPECT_EQ(f.write(0x1010, 1, k_save, &results), AbortCode::pending);
+  f.service.reset();
+  f.storage.complete();
+  EXPECT_TRUE(results.empty());
+  EXPECT_EQ(f.n(0x5006, 5), 0) << "the counter of the gone service is not written";
+}
+
 TEST(MotorStore, StoresOnlyTheMotorGroup) {
   Fixture f("MCFLAT");
   f.write(0x3300, 7, 812);

@@ -136,6 +136,40 @@ TEST(Fleet, FleetFileMixedModels) {
   EXPECT_FALSE(drives[0].config.contains("plant"));
 }
 
+// --dump-od/--dump-eds with a fleet (issue 23): --drive K names the drive; without it a process of
+// more than one drive is refused, since the drives' dictionaries differ.
+TEST(Fleet, DumpTargetIsTheDriveNamedByDrive) {
+  const json fleet = json::parse(R"([{"model": "MC349"}, {"model": "MCFLAT", "objects": {"6083.00": 2000}}])");
+  const auto second = dump_target(with_fleet(fleet, {"--dump-eds", "--drive", "2"}));
+  EXPECT_EQ(second.model, "MCFLAT");
+  EXPECT_EQ(second.config["objects"]["6083.00"], 2000);
+  EXPECT_EQ(factory_ip(second), json::parse("[192,168,2,151]"));
+  EXPECT_EQ(dump_target(with_fleet(fleet, {"--dump-od", "--drive=1"})).model, "MC349");
+  EXPECT_EQ(dump_target(with_drives({"--dump-eds", "--model", "MCN23"})).model, "MCN23");
+  EXPECT_EQ(dump_target(with_drives({"--dump-eds", "--drives", "3", "--drive", "3"})).ip, "192.168.2.152");
+  const auto refused = [](const Settings& s) {
+    try {
+      dump_target(s);
+    } catch (const UsageError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refused(with_fleet(fleet, {"--dump-eds"})).find("choose the one to dump with --drive K (1 … 2)"),
+            std::string::npos);
+  EXPECT_NE(refused(with_drives({"--dump-od", "--drives", "2"})).find("--dump-od: this process has 2 drives"),
+            std::string::npos);
+  EXPECT_EQ(refused(with_fleet(fleet, {"--dump-eds", "--drive", "3"})), "--drive 3: this process has 2 drives");
+  EXPECT_EQ(refused(with_drives({"--dump-eds", "--drive", "2"})), "--drive 2: this process has 1 drive");
+  EXPECT_THROW(with_drives({"--drive", "1"}), UsageError);  // only with a dump
+  EXPECT_THROW(with_drives({"--dump-eds", "--drive", "0"}), UsageError);
+  EXPECT_THROW(with_drives({"--dump-eds", "--drive"}), UsageError);
+  EXPECT_THROW(with_drives({"--dump-eds", "--drive", "x"}), UsageError);
+  const std::string config = ::testing::TempDir() + "drive_key.json";
+  std::ofstream(config) << R"({"drive": 1})";
+  EXPECT_THROW(with_drives({"--dump-eds", "--config", config}), UsageError) << "not a config key";
+}
+
 TEST(Fleet, FleetSectionsReplaceTheConfigSection) {
   const std::string config = ::testing::TempDir() + "fleet_config.json";
   std::ofstream(config) << R"({"objects": {"6081.00": 100}, "model": "MCFLAT"})";

@@ -74,6 +74,25 @@ TEST(TraceRing, LimitAndChannelFilter) {
   EXPECT_EQ(rest.next_seq, 5U);
 }
 
+// web.md §8.6: the pages' own polling (events marked `polling`) can be left out; `limit` counts
+// only the events returned, and next_seq continues after the last one examined.
+TEST(TraceRing, ExcludePollingLeavesTheMarkedEventsOut) {
+  Fixture f;
+  f.ring.record(Channel::http, Dir::rx, "POST /api/v1/objects/read", 1, {}, Flags{.polling = true});
+  f.ring.record(Channel::http, Dir::rx, "PUT /api/v1/objects/6083h/0", 1);
+  f.ring.record(Channel::http, Dir::tx, "200", 1, {}, Flags{.polling = true});
+  f.ring.record(Channel::http, Dir::tx, "200", 1);
+  EXPECT_EQ(f.ring.query({}).events.size(), 4U) << "kept by default";
+  auto r = f.ring.query({.since = 0, .channels = ChannelSet{}, .limit = 1, .exclude_polling = true});
+  ASSERT_EQ(r.events.size(), 1U);
+  EXPECT_EQ(r.events[0].text, "PUT /api/v1/objects/6083h/0");
+  r = f.ring.query({.since = r.next_seq, .channels = ChannelSet{}, .limit = 1, .exclude_polling = true});
+  ASSERT_EQ(r.events.size(), 1U);
+  EXPECT_EQ(r.events[0].seq, 4U);
+  EXPECT_FALSE(r.events[0].flags.polling);
+  EXPECT_EQ(r.next_seq, 5U);
+}
+
 TEST(TraceRing, SinceInTheFutureReturnsNothing) {
   Fixture f;
   f.ring.record(Channel::api, Dir::event, "x");

@@ -34,11 +34,28 @@ std::string header(const Response& r, std::string_view name) {
 
 TEST(Router, UnknownPathsGetThe404Page) {
   ApiFixture f;
-  for (const char* p : {"/nothing", "/api/v1/nothing", "/api/v2/info", "/api/v1/objects/6041", "/api/v1/info/x"}) {
+  for (const char* p : {"/nothing", "/static/none.js", "/apix/v1/info", "/api"}) {
     const auto r = f.call("GET", p);
     EXPECT_EQ(r.status, 404) << p;
     EXPECT_EQ(r.content_type, "text/html; charset=utf-8") << p;
     EXPECT_NE(r.body.find("/index.html"), std::string::npos) << p;
+  }
+}
+
+// web.md §1.4: an API client parses JSON, so an unknown path under /api/ is a JSON 404.
+TEST(Router, UnknownApiPathsGetAJson404) {
+  ApiFixture f;
+  for (const char* p :
+       {"/api/v1/nothing", "/api/v2/info", "/api/v1/objects/6041", "/api/v1/info/x", "/api/", "/api/v1/nothing?x=1"}) {
+    for (const char* method : {"GET", "POST", "PUT", "DELETE"}) {
+      const auto r = f.call(method, p, "{}", "application/json");
+      EXPECT_EQ(r.status, 404) << method << " " << p;
+      EXPECT_EQ(r.content_type, "application/json") << method << " " << p;
+      EXPECT_EQ(header(r, "Cache-Control"), "no-store") << p;
+      const auto body = f.json_of(r);
+      EXPECT_EQ(body["error"]["code"], "not-found") << p;
+      EXPECT_EQ(body["error"]["message"].get<std::string>().rfind("no API route /api/", 0), 0u) << body.dump();
+    }
   }
 }
 
@@ -167,6 +184,7 @@ TEST(OpenApi, EveryRouteIsDescribedAndEveryDescribedRouteExists) {
       const auto r = f.call(upper, sample_path(path), "{}", "application/json");
       EXPECT_NE(r.status, 405) << upper << " " << path;
       EXPECT_FALSE(r.status == 404 && r.content_type.rfind("text/html", 0) == 0) << upper << " " << path;
+      EXPECT_EQ(r.body.find("no API route"), std::string::npos) << upper << " " << path;
       for (const auto& p : op.value("parameters", json::array())) {
         EXPECT_TRUE(p["in"] == "path" || p["in"] == "query") << path;
       }
@@ -336,6 +354,52 @@ TEST(Router, FactoryResetWritesLoad) {
 }
 
 // Bad input never crashes and never corrupts: 4xx with a JSON error, and the entries keep their values.
+// object-dictionary.md §3.2: the JSON API is strict. A number outside the entry's data type is a
+// 400 (code "range", the range check's abort code) and is never stored as its two's complement;
+// the dictionary's earlier checks (existence, access, kind) keep their order and their answers.
+TEST(Router, JsonWritesOutsideTheTypeAre400NotTwosComplement) {
+  ApiFixture f;
+  struct Case {
+    const char* target;
+    const char* body;
+    const char* abort;
+  };
+  for (const auto& c : {Case{"/api/v1/objects/6083/0", R"({"value": -1})", "06090032h"},
+                        Case{"/api/v1/objects/6083/0", R"({"value": -2147483648})", "06090032h"},
+                        Case{"/api/v1/objects/6083/0", R"({"value": 4294967296})", "06090031h"},
+                        Case{"/api/v1/objects/6073/0", R"({"value": 65536})", "06090031h"},
+                        Case{"/api/v1/objects/6073/0", R"({"value": -1})", "06090032h"},
+                        Case{"/api/v1/objects/6098/0", R"({"value": 128})", "06090031h"},
+                        Case{"/api/v1/objects/6098/0", R"({"value": -129})", "06090032h"}}) {
+    const auto before = f.get("/api/v1/objects");
+    const auto r = f.call("PUT", c.target, c.body);
+    EXPECT_EQ(r.status, 400) << c.target << " " << c.body;
+    EXPECT_EQ(r.content_type, "application/json");
+    const auto e = f.json_of(r)["error"];
+    EXPECT_EQ(e["code"], "range") << e.dump();
+    EXPECT_EQ(e["abortCode"], c.abort) << c.target << " " << c.body;
+    EXPECT_NE(e["message"].get<std::string>().find(" is outside "), std::string::npos) << e.dump();
+    EXPECT_EQ(f.get("/api/v1/objects"), before) << "nothing stored: " << c.body;
+  }
+  // the message names the type and its range
+  EXPECT_EQ(f.json_of(f.call("PUT", "/api/v1/objects/6083/0", R"({"value": -1})"))["error"]["message"],
+            "-1 is outside UNSIGNED32 (0 … 4294967295)");
+  // the edges of the types are stored
+  EXPECT_EQ(f.call("PUT", "/api/v1/objects/6098/0", R"({"value": -128})").status, 200);
+  EXPECT_EQ(f.n(0x6098, 0), -128);
+  EXPECT_EQ(f.call("PUT", "/api/v1/objects/6083/0", R"({"value": 20000})").status, 200);
+  // earlier checks answer first: a read-only entry, a missing one, a string for a number
+  auto r = f.call("PUT", "/api/v1/objects/6041/0", R"({"value": -1})");
+  EXPECT_EQ(r.status, 409);
+  EXPECT_EQ(f.json_of(r)["error"]["abortCode"], "06010002h");
+  EXPECT_EQ(f.call("PUT", "/api/v1/objects/7000/0", R"({"value": -1})").status, 404);
+  EXPECT_EQ(f.json_of(f.call("PUT", "/api/v1/objects/6083/0", R"({"value": "-1"})"))["error"]["abortCode"],
+            "06070010h");
+  // the journal (web.md §8.6, channel api) records the refusal
+  const auto journal = f.api_events();
+  EXPECT_NE(std::find(journal.begin(), journal.end(), "PUT 6083h.00h = -1 06090032h"), journal.end());
+}
+
 struct BadCall {
   const char* method;
   const char* target;
@@ -374,8 +438,9 @@ INSTANTIATE_TEST_SUITE_P(
                       BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 18446744073709551615})", 400},
                       BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 18446744073709551616})", 400},
                       BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 1e300})", 400},
-                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": -2147483649})", 409},
-                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 4294967296})", 409},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": -2147483649})", 400},  // range
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": 4294967296})", 400},
+                      BadCall{"PUT", "/api/v1/objects/6083/0", R"({"value": -1})", 400},
                       BadCall{"PUT", "/api/v1/objects/6060/0", R"({"value": 99})", 409},
                       BadCall{"PUT", "/api/v1/objects/6083/256", R"({"value": 5})", 400},
                       BadCall{"PUT", "/api/v1/objects/10000/0", R"({"value": 5})", 400},
@@ -728,6 +793,29 @@ TEST(ProgramHtml, RefusedUploadsChangeNothing) {
   }
   EXPECT_EQ(script.source, "old");
   EXPECT_EQ(handled(f, upl_upload(std::string(65536, '#'))).status, 200) << "65 536 bytes is the limit";
+}
+
+// web.md §6.1: a refused upload answers the Code page with the refusal inside the page — in its
+// upload section, after the menu bar and the page's heading — not above the menu bar.
+TEST(ProgramHtml, TheRefusalIsShownInTheUploadSection) {
+  ApiFixture f;
+  FakeScript script;
+  f.services.script = &script;
+  f.make_router();
+  const auto r = handled(f, upl_upload(""));
+  ASSERT_EQ(r.status, 400);
+  const auto& b = r.body;
+  const auto note =
+      b.find("<p id=\"code-error\" class=\"notice error\" role=\"alert\">upload refused: the script file is empty</p>");
+  ASSERT_NE(note, std::string::npos) << b;
+  EXPECT_LT(b.find("id=\"menubar\""), note) << "after the menu bar";
+  EXPECT_LT(b.find("<main"), note);
+  EXPECT_LT(b.find("id=\"code-file-hint\""), note) << "under the upload controls";
+  EXPECT_LT(note, b.find("</form>"));
+  EXPECT_EQ(b.find("<!--code-error-->"), std::string::npos) << "the marker is replaced";
+  EXPECT_EQ(b.find("id=\"code-error\"", note + 10), std::string::npos) << "once";
+  EXPECT_NE(handled(f, upl_upload("print(1)\n")).body.find("<!--code-error-->"), std::string::npos)
+      << "an accepted upload shows no note";
 }
 
 TEST(ProgramHtml, CodeActPerformsTheActionAndAnswersThePage) {

@@ -133,6 +133,32 @@ TEST(TraceEndpoints, QueryParametersAndErrors) {
   EXPECT_EQ(f.call("GET", "/api/v1/trace?limit=10000").status, 200);
 }
 
+// web.md §8.6: requests the pages repeat on a timer are marked "polling" and left out with
+// excludePolling=1 (the Emulator page's trace view asks for that).
+TEST(TraceEndpoints, ExcludePolling) {
+  testing::ApiFixture f;
+  trace::Flags polling;
+  polling.polling = true;
+  f.ring.record(trace::Channel::http, trace::Dir::rx, "GET /api/v1/io", 3, "127.0.0.1:1", polling);
+  f.ring.record(trace::Channel::http, trace::Dir::tx, "200", 3, "127.0.0.1:1", polling);
+  f.ring.record(trace::Channel::http, trace::Dir::rx, "POST /api/v1/store", 3, "127.0.0.1:1");
+  auto j = f.get("/api/v1/trace?channels=http");
+  ASSERT_EQ(j["events"].size(), 3u);
+  EXPECT_EQ(j["events"][0]["polling"], true);
+  EXPECT_FALSE(j["events"][2].contains("polling"));
+  for (const char* on : {"1", "true"}) {
+    j = f.get(std::string("/api/v1/trace?channels=http&excludePolling=") + on);
+    ASSERT_EQ(j["events"].size(), 1u) << on;
+    EXPECT_EQ(j["events"][0]["text"], "POST /api/v1/store");
+  }
+  EXPECT_EQ(f.get("/api/v1/trace?excludePolling=0")["events"].size(), 3u);
+  EXPECT_EQ(f.call("GET", "/api/v1/trace?excludePolling=yes").status, 400);
+  auto r = f.call("GET", "/api/v1/trace/text?channels=http");
+  EXPECT_NE(r.body.find("GET /api/v1/io [polling]"), std::string::npos) << r.body;
+  r = f.call("GET", "/api/v1/trace/text?channels=http&excludePolling=1");
+  EXPECT_EQ(r.body, "2026-01-15T10:15:02.123Z 0 http rx #3 POST /api/v1/store\n");
+}
+
 TEST(TraceEndpoints, ExportsAsText) {
   testing::ApiFixture f;
   f.ring.record(trace::Channel::slcan, trace::Dir::tx, "t0B282132050000000000\r", 1);

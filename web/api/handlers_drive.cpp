@@ -146,6 +146,13 @@ void Router::put_object(const Ctx& c) {
   const auto s = static_cast<std::uint8_t>(*sub);
   const od::Value value = jv.is_string() ? od::Value{jv.get<std::string>()} : od::Value{jv.get<std::int64_t>()};
   const std::string what = "PUT " + hex_index(i) + "." + hex_sub(s) + " = " + value_text(value);
+  if (jv.is_number()) {  // the JSON API is strict: no two's complement (object-dictionary.md §3.2)
+    const auto* info = device_.od().info(i, s);
+    if (const auto code = out_of_type_range(info, jv.get<std::int64_t>())) {
+      journal(c.req, what + " " + outcome(*code));
+      return c.respond(range_error(*info, jv.get<std::int64_t>(), *code));
+    }
+  }
   std::weak_ptr<Router*> weak = self_;
   auto finish = [weak, i, s, what, respond = c.respond, conn = c.req.conn, peer = c.req.peer](od::AbortCode code) {
     const auto alive = weak.lock();

@@ -57,6 +57,10 @@ std::variant<TraceQuery, Response> trace_query(const std::map<std::string, std::
     if (!v) return bad("\"limit\": an integer 1 … 10000");
     t.q.limit = static_cast<std::size_t>(*v);
   }
+  if (const auto* p = get("excludePolling")) {
+    if (*p != "0" && *p != "1" && *p != "true" && *p != "false") return bad("\"excludePolling\": 1 or 0");
+    t.q.exclude_polling = *p == "1" || *p == "true";
+  }
   if (const auto* c = get("conn")) {
     const auto v = query_uint(*c, 1, UINT64_MAX);
     if (!v) return bad("\"conn\": a connection id (positive integer)");

@@ -68,15 +68,27 @@ std::string plain_code_page(const ScriptView& v, std::string_view error) {
   return page;
 }
 
-// The embedded page with an error note right after its <body> tag.
+// Where the embedded Code page wants an upload's refusal: in its upload section, under the
+// controls it concerns (not above the menu bar).
+constexpr std::string_view k_error_marker = "<!--code-error-->";
+
+// The embedded page with an error note at its marker; a page without one gets it at the start of
+// its <main> (the page's content), failing that right after <body>.
 std::string with_error(std::string page, std::string_view error) {
   if (error.empty()) return page;
-  const std::string note = "<p id=\"code-error\" role=\"alert\">" + html_escape(error) + "</p>";
-  const auto body = page.find("<body");
-  const auto end = body == std::string::npos ? std::string::npos : page.find('>', body);
-  if (end == std::string::npos) return note + page;
-  page.insert(end + 1, note);
-  return page;
+  const std::string note = "<p id=\"code-error\" class=\"notice error\" role=\"alert\">" + html_escape(error) + "</p>";
+  if (const auto at = page.find(k_error_marker); at != std::string::npos) {
+    page.replace(at, k_error_marker.size(), note);
+    return page;
+  }
+  for (const char* tag : {"<main", "<body"}) {
+    const auto open = page.find(tag);
+    const auto end = open == std::string::npos ? std::string::npos : page.find('>', open);
+    if (end == std::string::npos) continue;
+    page.insert(end + 1, note);
+    return page;
+  }
+  return note + page;
 }
 
 }  // namespace

@@ -60,6 +60,26 @@ Response not_found_page() {
   return r;
 }
 
+std::optional<od::AbortCode> out_of_type_range(const od::EntryInfo* info, std::int64_t value) {
+  if (!info || od::is_string(info->type)) return std::nullopt;
+  if (info->access != od::Access::rw && info->access != od::Access::wo) return std::nullopt;
+  const od::Range r = od::type_range(info->type);
+  if (value >= r.min && value <= r.max) return std::nullopt;
+  return value > r.max ? od::AbortCode::value_too_high : od::AbortCode::value_too_low;
+}
+
+Response range_error(const od::EntryInfo& info, std::int64_t value, od::AbortCode code) {
+  const od::Range r = od::type_range(info.type);
+  const std::string message = std::to_string(value) + " is outside " + std::string(od::to_string(info.type)) + " (" +
+                              std::to_string(r.min) + " … " + std::to_string(r.max) + ")";
+  return json_response(400, json{{"error", {{"code", "range"}, {"abortCode", abort_hex(code)}, {"message", message}}}});
+}
+
+Response unknown_api_path(std::string_view path) {
+  return error_json(404, "not-found",
+                    "no API route " + std::string(path) + " (GET /api/v1/openapi.json lists the routes)");
+}
+
 namespace {
 std::string format_hex(const char* fmt, std::uint32_t v) {
   std::array<char, 16> buf{};

@@ -13,6 +13,7 @@
 #include "device/json_fields.hpp"
 #include "device/refusal.hpp"
 #include "drive/od/abort_code.hpp"
+#include "drive/od/dictionary.hpp"
 #include "drive/od/types.hpp"
 #include "web/api/http_types.hpp"
 
@@ -35,8 +36,19 @@ Response error_json(int status, std::string_view code, std::string_view message)
 Response refusal_response(const device::Refusal& r);
 // An OD refusal: 404 for a missing object or sub-index, 409 for every other code (web.md §8).
 Response abort_response(od::AbortCode c);
-// The 404 page of web.md §1.4 (HTML, links to /index.html).
+// The strict range rule of the JSON API (object-dictionary.md §3.2): a number outside the data type
+// of a writable numeric entry is refused with the code of the range check (06090031h above,
+// 06090032h below) — never stored as its two's complement. nullopt when the value fits, or when the
+// entry is missing, a string or not writable (the dictionary's earlier checks answer those).
+std::optional<od::AbortCode> out_of_type_range(const od::EntryInfo* info, std::int64_t value);
+// Its answer: 400, code "range", the abort code and the type's range in the message.
+Response range_error(const od::EntryInfo& info, std::int64_t value, od::AbortCode code);
+
+// The 404 page of web.md §1.4 (HTML, links to /index.html) for a path outside /api/.
 Response not_found_page();
+// The 404 of web.md §1.4 for a path under /api/ that no route matches: the JSON error body
+// {"error": {"code": "not-found", "message": "no API route …"}}.
+Response unknown_api_path(std::string_view path);
 
 // Hex forms of web.md §8: "607Ah", "0Ah", "06090031h", and H4 of §4.2 ("0427h", at least 4 digits).
 std::string hex_index(std::uint16_t index);

@@ -79,7 +79,9 @@ const std::vector<QueryParam> k_trace_query{
     {"since", "integer", "first sequence number wanted (default 0)"},
     {"channels", "string",
      "comma-separated channels: refgo, slcan, udp, http, script, drive, api, faulhaber, basic, lint (default all)"},
-    {"limit", "integer", "at most this many events, 1 … 10000 (default 500)"}};
+    {"limit", "integer", "at most this many events, 1 … 10000 (default 500)"},
+
+    {"excludePolling", "integer", "1: leave out the requests the pages repeat on a timer (header X-Mcemu-Poll)"}};
 const std::vector<QueryParam> k_export_query{
     {"since", "integer", "first sequence number wanted (default 0)"},
     {"limit", "integer", "at most this many events are examined, 1 … 10000 (default 10000)"},
@@ -110,7 +112,7 @@ const std::vector<Router::Route>& Router::routes() {
         "application/json",
         k_value_body,
         "application/json",
-        {k_400, k_404, k_409}},
+        {{400, "malformed request (syntax), or a number outside the entry's data type (range)"}, k_404, k_409}},
        &Router::put_object},
       {{M::post,
         "/api/v1/objects/read",
@@ -157,7 +159,8 @@ const std::vector<Router::Route>& Router::routes() {
         {{"since", "integer", "first sequence number wanted (default 0)"},
          {"channels", "string", "comma-separated channels (default refgo,udp)"},
          {"limit", "integer", "at most this many events, 1 … 10000 (default 10000)"},
-         {"conn", "integer", "only the events of this connection"}},
+         {"conn", "integer", "only the events of this connection"},
+         {"excludePolling", "integer", "1: leave out the requests the pages repeat on a timer (header X-Mcemu-Poll)"}},
         "",
         "",
         "text/plain",
@@ -510,7 +513,8 @@ void Router::dispatch(const Request& request, const Respond& respond) {
   for (const auto& r : rows) {
     if (match_path(r.doc.path, path)) best = std::min(best, parameter_count(r.doc.path));
   }
-  if (best == SIZE_MAX) return respond(not_found_page());
+  // An API client parses JSON, also when it asked for a path that does not exist (web.md §1.4).
+  if (best == SIZE_MAX) return respond(unknown_api_path(path));
   const auto method = method_of(request.method);
   const Route* route = nullptr;
   std::string allow;

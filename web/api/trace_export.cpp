@@ -22,6 +22,7 @@ json event_json(const trace::Event& e) {
   if (e.flags.to_script) j["toScript"] = true;
   if (e.flags.discarded) j["discarded"] = true;
   if (e.flags.ignored) j["ignored"] = true;
+  if (e.flags.polling) j["polling"] = true;
   return j;
 }
 
@@ -126,6 +127,7 @@ std::string text_log(std::span<const trace::Event> events) {
     if (e.flags.to_script) out += " [toScript]";
     if (e.flags.discarded) out += " [discarded]";
     if (e.flags.ignored) out += " [ignored]";
+    if (e.flags.polling) out += " [polling]";
     out += '\n';
   }
   return out;

@@ -14,7 +14,11 @@ using tcp = asio::ip::tcp;
 using error_code = boost::system::error_code;
 
 HttpServer::HttpServer(asio::io_context& io, const tcp::endpoint& endpoint, HttpOptions options, Handler handler)
-    : acceptor_(io), options_(options), handler_(std::move(handler)), hub_(io, options.ws) {
+    : acceptor_(io),
+      options_(options),
+      handler_(std::move(handler)),
+      hub_(io, options.ws),
+      ids_(base::own_ids_unless(options_.ids)) {
   acceptor_.open(endpoint.protocol());
   acceptor_.set_option(tcp::acceptor::reuse_address(true));
   acceptor_.bind(endpoint);
@@ -62,7 +66,7 @@ void HttpServer::do_accept() {
       socket.close(pe);
     } else {
       line::net::apply_stream_socket_options(socket);
-      auto s = std::make_shared<HttpSession>(*this, std::move(socket), next_id_++, peer);
+      auto s = std::make_shared<HttpSession>(*this, std::move(socket), ids_->next(), peer);
       adopt(s);
       s->start();
     }

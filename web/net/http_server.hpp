@@ -28,6 +28,7 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "base/connection_ids.hpp"
 #include "web/api/http_types.hpp"
 #include "web/net/ws_hub.hpp"
 
@@ -44,7 +45,14 @@ struct HttpOptions {
   std::chrono::milliseconds write_timeout{60'000};  // to send one response to a client that reads
   std::chrono::milliseconds linger{1'000};          // input discarded after a closing error response
   WsOptions ws;
+  // The drive's connection ids, shared with its line listeners (base/connection_ids.hpp); empty =
+  // this server counts from 1 on its own. A WebSocket keeps the id of its upgrade request.
+  std::shared_ptr<base::ConnectionIds> ids;
 };
+
+// A request the web pages repeat on a timer carries this header (any value); the observer is told,
+// so that the trace can leave the pages' own polling out (web.md §8.6).
+inline constexpr std::string_view k_poll_header = "X-Mcemu-Poll";
 
 // Answers one request: must call `respond` exactly once, possibly later, on the loop thread.
 using Handler = std::function<void(const api::Request&, api::Respond respond)>;
@@ -58,6 +66,7 @@ struct HttpObserver {
     std::string_view method;  // "GET"; empty when the request line could not be read
     std::string_view target;  // "/index.html?x=1"; empty likewise
     int status = 0;           // 101 for an accepted WebSocket upgrade
+    bool polling = false;     // the request carried k_poll_header (a page's timer, web.md §8.6)
   };
   std::function<void(std::uint64_t conn, std::string_view peer)> opened;  // connection accepted
   std::function<void(std::uint64_t conn)> closed;                         // its socket closed
@@ -101,7 +110,7 @@ class HttpServer {
   WsHub hub_;
   std::unordered_map<Connection*, std::shared_ptr<Connection>> connections_;
   std::size_t websockets_ = 0;
-  std::uint64_t next_id_ = 1;
+  std::shared_ptr<base::ConnectionIds> ids_;  // options_.ids, or its own
   bool accepting_ = false;
   std::shared_ptr<int> alive_ = std::make_shared<int>(0);  // accept handlers check it
 };

@@ -80,6 +80,7 @@ void HttpSession::do_read_header() {
   target_.clear();
   version_ = 11;
   head_ = false;
+  polling_ = false;
   stream_.expires_after(server_.options_.idle_timeout);
   http::async_read_header(stream_, buffer_, *parser_,
                           [self = shared_from_this()](const error_code& ec, std::size_t) { self->on_header(ec); });
@@ -93,6 +94,7 @@ void HttpSession::on_header(const error_code& ec) {
     target_ = std::string(req.target());
     version_ = req.version() == 10 ? 10 : 11;
     head_ = req.method() == http::verb::head;
+    polling_ = req.count(beast::string_view(k_poll_header.data(), k_poll_header.size())) > 0;
   }
   if (ec) return on_read_error(ec);
   if (parser_->is_done()) return on_request();
@@ -198,7 +200,7 @@ void HttpSession::send(api::Response out, bool keep_alive) {
     res->content_length(out.body.size());
     if (!head_) res->body() = std::move(out.body);
   }
-  if (server_.observer_.answered) server_.observer_.answered({id_, peer_, method_, target_, out.status});
+  if (server_.observer_.answered) server_.observer_.answered({id_, peer_, method_, target_, out.status, polling_});
   in_flight_ = res;
   stream_.expires_after(server_.options_.write_timeout);
   http::async_write(stream_, *res, [self = shared_from_this(), keep_alive](const error_code& ec, std::size_t) {

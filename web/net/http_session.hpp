@@ -51,6 +51,7 @@ class HttpSession final : public Connection, public std::enable_shared_from_this
   std::string target_;
   unsigned version_ = 11;
   bool head_ = false;
+  bool polling_ = false;             // the request carried k_poll_header
   std::shared_ptr<void> in_flight_;  // the response (or 100 Continue) being written
   std::array<char, 4096> discard_{};
   bool closed_ = false;

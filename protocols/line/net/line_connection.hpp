@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "base/connection_ids.hpp"
 #include "protocols/line/stream_session.hpp"
 
 namespace mcemu::line::net {
@@ -47,6 +48,9 @@ struct LineServerOptions {
   // read from it (time in which reading is paused, by a backlog or a pending Store, is not idle
   // time: mcemu cannot tell whether the peer sent anything). 0 = off.
   std::chrono::milliseconds idle_timeout{0};
+  // The drive's connection ids, shared with its other listeners (base/connection_ids.hpp); empty =
+  // this server counts from 1 on its own.
+  std::shared_ptr<base::ConnectionIds> ids;
 };
 
 struct PeerInfo {

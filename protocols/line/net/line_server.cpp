@@ -26,7 +26,10 @@ void apply_stream_socket_options(tcp::socket& socket) {
 
 LineServer::LineServer(asio::io_context& io, const tcp::endpoint& endpoint, LineServerOptions options,
                        SessionFactory factory)
-    : acceptor_(io), options_(std::move(options)), factory_(std::move(factory)) {
+    : acceptor_(io),
+      options_(std::move(options)),
+      factory_(std::move(factory)),
+      ids_(base::own_ids_unless(options_.ids)) {
   acceptor_.open(endpoint.protocol());
   acceptor_.set_option(tcp::acceptor::reuse_address(true));
   acceptor_.bind(endpoint);
@@ -57,8 +60,11 @@ void LineServer::close_connections() {
 
 void LineServer::do_accept() {
   if (!accepting_) return;
-  acceptor_.async_accept(
-      [this](const boost::system::error_code& ec, tcp::socket socket) { on_accept(ec, std::move(socket)); });
+  // The completion may come after the server is gone (an accept that completed just before stop(),
+  // its handler still queued): it checks first.
+  acceptor_.async_accept([this, alive = alive_.watch()](const boost::system::error_code& ec, tcp::socket socket) {
+    if (alive) on_accept(ec, std::move(socket));
+  });
 }
 
 void LineServer::on_accept(const boost::system::error_code& ec, tcp::socket socket) {
@@ -67,7 +73,7 @@ void LineServer::on_accept(const boost::system::error_code& ec, tcp::socket sock
     boost::system::error_code pe;
     const auto remote = socket.remote_endpoint(pe);
     PeerInfo peer{pe ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port()),
-                  next_id_++};
+                  ids_->next()};
     if (connections_.size() >= options_.max_clients) {
       spdlog::warn("{}: connection limit {} reached ({} sets it); closing connection from {}", options_.name,
                    options_.max_clients, options_.max_clients_flag, peer.address);

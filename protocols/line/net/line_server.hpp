@@ -22,6 +22,7 @@
 #include <memory>
 #include <string>
 
+#include "base/liveness.hpp"
 #include "protocols/line/net/line_connection.hpp"
 #include "protocols/line/stream_session.hpp"
 
@@ -55,8 +56,9 @@ class LineServer {
   LineServerOptions options_;
   SessionFactory factory_;
   std::map<LineConnectionBase*, std::shared_ptr<Connection>> connections_;
-  std::uint64_t next_id_ = 1;
+  std::shared_ptr<base::ConnectionIds> ids_;  // options_.ids, or its own
   bool accepting_ = false;
+  base::LivenessToken alive_;  // accept handlers check it: the server may be gone
 };
 
 // Socket options of refgo.md §1.3 (also used by SLCAN); exposed for tests.

@@ -91,6 +91,35 @@ TEST(Helpers, GoVelClearsHaltAndIsRefusedOnRabbit) {
   EXPECT_EQ(r.d.core.state(), PdsState::switch_on_disabled) << "the helper ends before AUTOENABLE";
 }
 
+// drive-core.md §12: GoHome ends at the first refused write and names it (entry, value, abort
+// code), so its callers can say which write it was; the writes after it are not made.
+TEST(Helpers, GoHomeNamesTheRefusedWrite) {
+  Fixture f;
+  const std::int64_t offset = f.d.read(0x607C);
+  auto r = h::go_home(f.ref, 35, 500, 0, 1234);  // 609Ah := 0 is below its minimum 1
+  EXPECT_EQ(r, od::AbortCode::value_too_low);
+  ASSERT_TRUE(r.refused);
+  EXPECT_EQ(r.refused->index, 0x609A);
+  EXPECT_EQ(r.refused->sub, 0);
+  EXPECT_EQ(r.refused->value, 0);
+  EXPECT_EQ(h::describe(r), "609Ah.00h := 0 refused, 06090032h");
+  EXPECT_EQ(f.d.read(0x6099, 1), 500) << "the writes before it were made";
+  EXPECT_EQ(f.d.read(0x607C), offset) << "the writes after it were not";
+  EXPECT_NE(f.d.read(0x6060), 6) << "no mode switch";
+
+  r = h::go_home(f.ref, -19, 500, 1000, 0);  // every write accepted, AUTOENABLE reaches OE
+  EXPECT_TRUE(r.ok());
+  EXPECT_FALSE(r.refused);
+  EXPECT_EQ(h::describe(r), "ok");
+
+  f.d.core.inject(FaultCause::sensor);
+  f.d.step();
+  r = h::go_home(f.ref, -19, 500, 1000, 0);  // no write refused: AUTOENABLE cannot leave Fault
+  EXPECT_EQ(r, od::AbortCode::device_state);
+  EXPECT_FALSE(r.refused);
+  EXPECT_EQ(h::describe(r), "Operation enabled not reached, 08000022h");
+}
+
 TEST(Helpers, ObjectAccessAndChecks) {
   Fixture f;
   EXPECT_EQ(h::write_object(f.ref, 0x6081, 0, 1234), 0);

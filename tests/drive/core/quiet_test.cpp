@@ -286,6 +286,32 @@ TEST(QuietSteps, AnyCallBetweenStepsEndsTheQuiet) {
   }
 }
 
+// drive-core.md §10.11: a supply out of range for weeks (more than 2^31 ms) stays a fault and the
+// drive stays quiet, through skipped stretches and full steps alike; it resets once the supply is back.
+TEST(QuietSteps, UnderVoltageForWeeksStaysAFault) {
+  Drive d;
+  d.step(3);
+  d.core.set_supply_voltage(10);
+  d.step(3);
+  ASSERT_EQ(d.core.state(), PdsState::fault);
+  const std::uint64_t week = 7ULL * 24 * 3600 * 1000;
+  for (int w = 0; w < 5; ++w) {  // 35 days: skipped weeks with full steps in between
+    ASSERT_EQ(d.core.quiet_steps(), DriveCore::k_forever) << "week " << w;
+    d.core.skip(week);
+    d.step(2);
+    d.cw(0x00);
+    d.cw(0x80);  // a fault reset edge is refused while the cause is present
+    EXPECT_EQ(d.core.state(), PdsState::fault) << "week " << w;
+    d.step(1);
+  }
+  d.core.set_supply_voltage(48);
+  d.step(2);
+  d.cw(0x00);
+  d.cw(0x80);
+  d.step(1);
+  EXPECT_EQ(d.core.state(), PdsState::switch_on_disabled);
+}
+
 TEST(QuietSteps, NotPoweredIsForever) {
   Drive d("MC349", {}, false);
   EXPECT_EQ(d.core.quiet_steps(), DriveCore::k_forever);

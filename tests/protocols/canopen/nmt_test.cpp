@@ -1,5 +1,5 @@
 // NMT, boot-up, resets and node-id (slcan-canopen.md §4; conformance NMT-01 … NMT-08, OTH-09,
-// OTH-10, HBG-06) at unit level.
+// OTH-10, HBG-06, NMT-09) at unit level.
 #include <gtest/gtest.h>
 
 #include "protocols/canopen/comm_reload.hpp"
@@ -92,6 +92,47 @@ TEST(Nmt, ResetNodeCallsTheServerAndBootsAfter50ms) {  // NMT-05
   EXPECT_EQ(h.number(0x1017, 0), 500);
   EXPECT_EQ(h.run_until(t0 + 550ms), "t73217F\r");  // heartbeat period starts at the boot-up
   EXPECT_EQ(h.send("t63284041600000000000"), "t5B284B41600040000000\r");
+}
+
+// slcan-canopen.md §4.4: a reset that arrives while the node is still INITIALISING from an earlier
+// one is executed, and the boot-up comes after the last one; other frames stay ignored.
+TEST(Nmt, ResetWhileInitialisingIsExecuted) {  // NMT-09
+  int node_resets = 0;
+  int comm_resets = 0;
+  Node::Hooks hooks;
+  hooks.reset_node = [&] { ++node_resets; };
+  hooks.reset_communication = [&] { ++comm_resets; };
+  Harness h("MC349", {}, false, hooks);
+  h.boot();
+  const Millis t0 = h.now;
+  EXPECT_EQ(h.send("t00028132"), "");  // reset node
+  EXPECT_EQ(h.run_until(t0 + 20ms), "");
+  EXPECT_EQ(h.send("t00028100"), "");  // again, 20 ms later (all nodes)
+  EXPECT_EQ(node_resets, 2) << "the second reset node is executed";
+  EXPECT_EQ(h.run_until(t0 + 69ms), "") << "the first reset's boot-up (t0 + 50) does not come";
+  EXPECT_EQ(h.run_until(t0 + 70ms), "t732100\r") << "50 ms after the last reset";
+  EXPECT_EQ(h.wait(1s), "") << "one boot-up";
+
+  const Millis t1 = h.now;
+  EXPECT_EQ(h.send("t00028132"), "");  // reset node, then reset communication 5 ms later
+  EXPECT_EQ(h.run_until(t1 + 5ms), "");
+  EXPECT_EQ(h.send("t00020132"), "");  // a start while initialising: still ignored
+  EXPECT_EQ(h.send("t00028133"), "");  // another node's reset: ignored
+  EXPECT_EQ(h.send("t000182"), "");    // DLC 1: ignored
+  EXPECT_EQ(comm_resets, 0);
+  EXPECT_EQ(h.send("t00028232"), "");
+  EXPECT_EQ(comm_resets, 1);
+  EXPECT_EQ(h.run_until(t1 + 14ms), "");
+  EXPECT_EQ(h.run_until(t1 + 15ms), "t732100\r") << "10 ms after the reset communication";
+  EXPECT_EQ(h.node->state(), NmtState::pre_operational) << "the start was not remembered";
+
+  h.node->power_on(h.now);  // power on's own boot-up delay: a reset inside it is executed too
+  const Millis t2 = h.now;
+  EXPECT_EQ(h.run_until(t2 + 5ms), "");
+  EXPECT_EQ(h.send("t00028132"), "");
+  EXPECT_EQ(node_resets, 4);
+  EXPECT_EQ(h.run_until(t2 + 54ms), "");
+  EXPECT_EQ(h.run_until(t2 + 55ms), "t732100\r");
 }
 
 TEST(Nmt, ResetCommunicationReloadsCommObjectsOnly) {  // NMT-06, HBG-06

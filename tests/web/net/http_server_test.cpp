@@ -3,6 +3,7 @@
 // limit, and clients that are slow to send or never read.
 #include <gtest/gtest.h>
 
+#include "protocols/line/net/line_server.hpp"
 #include "tests/web/net/net_fixture.hpp"
 #include "web/api/router.hpp"
 
@@ -61,7 +62,7 @@ class HttpServerTest : public ::testing::Test {
     obs.opened = [this](std::uint64_t c, std::string_view) { rec_.opened.push_back(c); };
     obs.closed = [this](std::uint64_t c) { rec_.closed.push_back(c); };
     obs.answered = [this](const HttpObserver::Answer& a) {
-      rec_.answers.push_back({a.conn, {}, {}, {}, a.status});
+      rec_.answers.push_back({a.conn, {}, {}, {}, a.status, a.polling});
       rec_.methods.emplace_back(a.method);
       rec_.targets.emplace_back(a.target);
     };
@@ -99,6 +100,91 @@ TEST_F(HttpServerTest, KeepAliveReusesOneConnection) {
   }
   EXPECT_EQ(rec.methods[2], "GET");
   EXPECT_EQ(rec.targets[2], "/echo?i=2");
+}
+
+// A line session that answers nothing.
+class SilentSession final : public line::StreamSession {
+ public:
+  void receive(std::string_view) override {}
+  std::string take_output() override { return {}; }
+  void peer_closed() override { closed_ = true; }
+  bool finished() const override { return closed_; }
+
+ private:
+  bool closed_ = false;
+};
+
+// base/connection_ids.hpp: a drive's listeners share one counter, so the trace's `conn` names one
+// connection whatever its channel. Here an HTTP server and a line server take turns.
+TEST_F(HttpServerTest, ConnectionIdsSharedWithALineServer) {
+  HttpOptions o;
+  o.ids = std::make_shared<base::ConnectionIds>();
+  start(o);
+  std::vector<std::uint64_t> line_ids;  // touched on the loop thread only
+  auto line = server_->on_loop([&] {
+    line::net::LineServerOptions lo;
+    lo.name = "test";
+    lo.ids = o.ids;
+    auto s = std::make_unique<line::net::LineServer>(
+        server_->io(), tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0), lo,
+        [&line_ids](const line::net::PeerInfo& p) -> std::unique_ptr<line::StreamSession> {
+          line_ids.push_back(p.id);
+          return std::make_unique<SilentSession>();
+        });
+    s->start();
+    return s;
+  });
+  const auto line_port = server_->on_loop([&] { return line->port(); });
+  const auto line_connected = [&](std::size_t n) {
+    return poll_until([&] { return server_->on_loop([&] { return line_ids.size(); }) == n; });
+  };
+  RawClient h1(port());
+  ASSERT_TRUE(h1.send(get_request("/echo")));
+  ASSERT_TRUE(h1.read_response());
+  RawClient l1(line_port);
+  ASSERT_TRUE(line_connected(1));
+  RawClient h2(port());
+  ASSERT_TRUE(h2.send(get_request("/echo")));
+  ASSERT_TRUE(h2.read_response());
+  RawClient l2(line_port);
+  ASSERT_TRUE(line_connected(2));
+  const auto rec = recorded();
+  EXPECT_EQ(rec.opened, (std::vector<std::uint64_t>{1, 3}));
+  EXPECT_EQ(server_->on_loop([&] { return line_ids; }), (std::vector<std::uint64_t>{2, 4}));
+  server_->on_loop([&] {
+    line->stop();
+    line.reset();
+    return 0;
+  });
+}
+
+// Without a shared counter each server counts from 1 on its own.
+TEST_F(HttpServerTest, ConnectionIdsOfItsOwnWithoutASharedCounter) {
+  start();
+  RawClient a(port());
+  ASSERT_TRUE(a.send(get_request("/echo")));
+  ASSERT_TRUE(a.read_response());
+  RawClient b(port());
+  ASSERT_TRUE(b.send(get_request("/echo")));
+  ASSERT_TRUE(b.read_response());
+  EXPECT_EQ(recorded().opened, (std::vector<std::uint64_t>{1, 2}));
+}
+
+// web.md §8.6: a request with the header X-Mcemu-Poll (the pages' timers) is reported as polling.
+TEST_F(HttpServerTest, ThePollHeaderIsReported) {
+  start();
+  RawClient c(port());
+  ASSERT_TRUE(c.send("GET /echo HTTP/1.1\r\nHost: x\r\nX-Mcemu-Poll: 1\r\n\r\n"));
+  ASSERT_TRUE(c.read_response());
+  ASSERT_TRUE(c.send(get_request("/echo")));  // the same connection, no header
+  ASSERT_TRUE(c.read_response());
+  ASSERT_TRUE(c.send("GET /nothing HTTP/1.1\r\nHost: x\r\nx-mcemu-poll: \r\n\r\n"));  // any case, any value
+  ASSERT_TRUE(c.read_response());
+  const auto rec = recorded();
+  ASSERT_EQ(rec.answers.size(), 3U);
+  EXPECT_TRUE(rec.answers[0].polling);
+  EXPECT_FALSE(rec.answers[1].polling);
+  EXPECT_TRUE(rec.answers[2].polling);
 }
 
 TEST_F(HttpServerTest, PipelinedRequestsAreAnsweredInOrder) {

@@ -25,6 +25,10 @@ export function describe(err) {
   return String((err && err.message) || err);
 }
 
+// The requests a page repeats on a timer carry this header, so that the trace view can leave the
+// pages' own polling out (web.md §8.6: the `polling` mark, GET /api/v1/trace?excludePolling=1).
+const POLL_HEADER = 'X-Mcemu-Poll';
+
 // docs/security.md: with `mcemu --api-token FILE` the emulator endpoints (settings, clock, power
 // cycle, faults) answer 401 without the token; the page asks for it once and keeps it for the tab.
 const TOKEN_KEY = 'mcemu.apiToken';
@@ -37,8 +41,9 @@ function storedToken() {
   }
 }
 
-async function call(method, path, body, contentType = 'application/json', retried = false) {
+async function call(method, path, body, contentType = 'application/json', poll = false, retried = false) {
   const init = { method, cache: 'no-store', headers: {} };
+  if (poll) init.headers[POLL_HEADER] = '1';
   const token = storedToken();
   if (token) init.headers.Authorization = `Bearer ${token}`;
   if (body !== undefined) {
@@ -69,7 +74,7 @@ async function call(method, path, body, contentType = 'application/json', retrie
       } catch {
         // no session storage: the token lives as long as this page
       }
-      return call(method, path, body, contentType, true);
+      return call(method, path, body, contentType, poll, true);
     }
   }
   if (!res.ok) throw new ApiError(res.status, data, `${res.status} ${res.statusText || 'error'}`);
@@ -81,6 +86,8 @@ export const hexIndex = (i) => i.toString(16).toUpperCase().padStart(4, '0') + '
 
 export const api = {
   get: (path) => call('GET', path),
+  // A GET the page repeats on a timer (marked as polling for the trace).
+  poll: (path) => call('GET', path, undefined, undefined, true),
   post: (path, body = {}) => call('POST', path, body),
   put: (path, body) => call('PUT', path, body),
   del: (path) => call('DELETE', path),
@@ -92,9 +99,10 @@ export const api = {
     if (!r.ok) throw new RefgoError(r.answer || `${line}: error`);
     return r;
   },
-  // [[index, sub], …] → values (an entry that failed is {abortCode}), one consistent read (§8.3).
-  async read(list) {
-    const r = await call('POST', '/api/v1/objects/read', { objects: list.map(([i, s]) => [hexIndex(i), s]) });
+  // [[index, sub], …] → values (an entry that failed is {abortCode}), one consistent read (§8.3);
+  // poll: a read the page repeats on a timer.
+  async read(list, { poll = false } = {}) {
+    const r = await call('POST', '/api/v1/objects/read', { objects: list.map(([i, s]) => [hexIndex(i), s]) }, 'application/json', poll);
     return r.values;
   },
   write: (index, sub, value) => call('PUT', `/api/v1/objects/${hexIndex(index)}/${sub}`, { value }),

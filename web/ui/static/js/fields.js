@@ -25,7 +25,7 @@ async function pollOnce() {
   const startedAt = performance.now();
   let values;
   try {
-    values = await api.read(keys);
+    values = await api.read(keys, { poll: true });
   } catch (e) {
     for (const w of list) w.failed(e);
     return;

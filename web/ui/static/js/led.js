@@ -99,7 +99,7 @@ export class Leds {
   refetch() {
     if (this.fetching) return this.fetching;
     this.fetching = api
-      .get('/api/v1/led')
+      .poll('/api/v1/led')
       .then((led) => {
         const g = led.green;
         this.schedule = g;

@@ -151,7 +151,7 @@ class Live {
       if (!this.polling) return;
       if (inFlight < 2) {
         inFlight++;
-        api.get('/api/v1/status')
+        api.poll('/api/v1/status')
           .then((s) => {
             this.setMode('poll');
             this.acceptStatus(s);
@@ -167,7 +167,7 @@ class Live {
   pollScope() {
     this.loop(async () => {
       const since = this.scopeNext ?? Math.max(0, (this.status ? this.status.timeMs : 0) - 2000);
-      const s = await api.get(`/api/v1/scope?sinceMs=${since}`);
+      const s = await api.poll(`/api/v1/scope?sinceMs=${since}`);
       if (s.pos.length) {
         this.scopeNext = s.t0 + s.sampleMs * s.pos.length;
         this.emit('scope', s);
@@ -179,7 +179,7 @@ class Live {
     this.loop(async () => {
       let q = `/api/v1/trace?limit=500&since=${this.traceNext ?? 0}`;
       if (this.traceChannels) q += `&channels=${this.traceChannels.join(',')}`;
-      const t = await api.get(q);
+      const t = await api.poll(q);
       this.traceNext = t.nextSeq;
       if (t.events.length) this.emit('trace', { events: t.events });
     }, SLOW_POLL_MS);
@@ -187,7 +187,7 @@ class Live {
 
   pollUdp() {
     this.loop(async () => {
-      const u = await api.get('/api/v1/udp');
+      const u = await api.poll('/api/v1/udp');
       this.emit('udp-history', { messages: u.messages, view: u });
     }, 1000);
   }

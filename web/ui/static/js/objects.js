@@ -61,7 +61,7 @@ export function objectBrowser({ tbody, filter, hex: hexBox, count, group = null 
     const ro = shown.filter((e) => !(e.access === 'rw' || e.access === 'wo'));
     const tick = async () => {
       try {
-        const values = ro.length ? await api.read(ro.map((e) => [parseInt(e.index, 16), parseInt(e.sub, 16)])) : [];
+        const values = ro.length ? await api.read(ro.map((e) => [parseInt(e.index, 16), parseInt(e.sub, 16)]), { poll: true }) : [];
         values.forEach((v, i) => {
           const el = document.getElementById(idOf(ro[i]));
           if (el && !(v && typeof v === 'object')) {

@@ -48,7 +48,7 @@ function startConsole(live) {
   $('emu-console-clear').addEventListener('click', () => pre.replaceChildren());
   const listeners = async () => {
     try {
-      const u = await api.get('/api/v1/udp');
+      const u = await api.poll('/api/v1/udp');
       $('emu-listeners').textContent = u.listeners.length ? u.listeners.map((l) => `${l.address}:${l.port}`).join(', ') : 'none';
       const c = u.counters;
       $('emu-udp-counters').textContent = `datagrams sent ${c.datagramsSent}, dropped ${c.datagramsDropped}, received ${c.datagramsReceived}, ignored ${c.ignoredPayloads}; backlog ${u.backlog.messages} messages (${u.backlog.bytes} bytes)`;
@@ -71,20 +71,23 @@ function startTrace(live) {
     $('emu-trace-channels').append(element('label', {}, boxes[ch], ` ${ch}`));
   }
   const selected = () => CHANNELS.filter((c) => boxes[c].checked);
+  // The pages' own polling (web.md §8.6: events marked `polling`) is left out unless asked for.
+  const hidePolling = $('emu-trace-polling');
   let paused = false;
   let lastSeq = -1;
   const held = [];
   const state = $('emu-trace-state');
   const row = (e) => {
-    const flags = ['overlong', 'toScript', 'discarded', 'ignored'].filter((f) => e[f]).map((f) => ` [${f}]`).join('');
+    const flags = ['overlong', 'toScript', 'discarded', 'ignored', 'polling'].filter((f) => e[f]).map((f) => ` [${f}]`).join('');
     return element('div', { class: `trace-${e.dir}`, 'data-channel': e.channel, 'data-seq': String(e.seq) },
       `${e.timeMs} ${e.channel} ${e.dir} ${e.conn ? '#' + e.conn : '-'} `, ...docklight(e.text), flags);
   };
   const add = (events) => {
     const wanted = new Set(selected());
-    const fresh = events.filter((e) => e.seq > lastSeq && wanted.has(e.channel));
+    const newer = events.filter((e) => e.seq > lastSeq);
+    if (newer.length) lastSeq = newer[newer.length - 1].seq;
+    const fresh = newer.filter((e) => wanted.has(e.channel) && !(hidePolling.checked && e.polling));
     if (!fresh.length) return;
-    lastSeq = fresh[fresh.length - 1].seq;
     if (paused) {
       held.push(...fresh);
       state.textContent = `paused — ${held.length} new events held`;
@@ -102,7 +105,8 @@ function startTrace(live) {
       return;
     }
     try {
-      const t = await api.get(`/api/v1/trace?limit=200&channels=${ch.join(',')}&since=0`);
+      const polling = hidePolling.checked ? '&excludePolling=1' : '';
+      const t = await api.get(`/api/v1/trace?limit=200&channels=${ch.join(',')}&since=0${polling}`);
       lastSeq = -1;
       pre.replaceChildren();
       add(t.events);
@@ -117,6 +121,7 @@ function startTrace(live) {
     load();
   };
   for (const ch of CHANNELS) boxes[ch].addEventListener('change', changed);
+  hidePolling.addEventListener('change', () => load());
   live.setTraceChannels(selected());
   const pause = $('emu-trace-pause');
   pause.addEventListener('click', () => {

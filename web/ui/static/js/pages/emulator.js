@@ -148,7 +148,7 @@ const describeFault = (f) =>
     .join(' ');
 async function loadInjections() {
   try {
-    injections = (await api.get('/api/v1/faults')).faults;
+    injections = (await api.poll('/api/v1/faults')).faults;
   } catch (e) {
     showResult(faultResult, false, describe(e));
     return;
@@ -198,7 +198,7 @@ const wiring = { writes: 0 };
 async function pollIo() {
   try {
     const before = wiring.writes;
-    const io = await api.get('/api/v1/io');
+    const io = await api.poll('/api/v1/io');
     for (let n = 1; n <= 10; n++) {
       if (wiring.writes !== before || wiring.writes % 2) break;
       $(`emu-in-${n}`).checked = (io.physical & (1 << (15 + n))) !== 0;

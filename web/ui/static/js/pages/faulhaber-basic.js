@@ -87,7 +87,7 @@ function takePrograms(r) {
 let loading = null;
 function loadPrograms() {
   if (!loading) {
-    loading = api.get(`${base}/programs`).then(takePrograms).catch((e) => showResult($('fh-basic-result'), false, describe(e))).finally(() => (loading = null));
+    loading = api.poll(`${base}/programs`).then(takePrograms).catch((e) => showResult($('fh-basic-result'), false, describe(e))).finally(() => (loading = null));
   }
   return loading;
 }
@@ -331,7 +331,7 @@ async function pollValues(inputCount, outputCount) {
   const started = performance.now();
   try {
     const before = inputs.writes;
-    const values = await api.read(keys);
+    const values = await api.read(keys, { poll: true });
     [...VARS].forEach((v, i) => {
       const input = $(`fh-var-${v}`);
       const value = values[i];

@@ -4,7 +4,7 @@
 // engine (GET /api/v1/info: scripting.available false) the page says so and its controls are off.
 import { boot } from '../skeleton.js';
 import { api, describe } from '../api.js';
-import { $, action, reportError } from '../ui.js';
+import { $, action, element, reportError } from '../ui.js';
 
 const { live } = boot();
 
@@ -21,10 +21,20 @@ action($('code-store'), async () => {
   return 'Stored';
 }, $('code-store-result'));
 
+// The upload's refusal is shown in the upload section: the server's answer (web.md §6.1) puts it
+// there as #code-error, and so does a click on Upload without a file.
+function showUploadError(text) {
+  let el = document.getElementById('code-error');
+  if (!el) {
+    el = element('p', { id: 'code-error', class: 'notice error', role: 'alert' });
+    $('code-file-hint').after(el);
+  }
+  el.textContent = text;
+}
 $('code-form').addEventListener('submit', (e) => {
   if (!$('code-file').files.length) {
     e.preventDefault();
-    reportError(new Error('Please select *.py script file to upload'));
+    showUploadError('Please select *.py script file to upload');
   }
 });
 
