@@ -534,9 +534,12 @@ class Limits(unittest.TestCase):
                 self.assertEqual(a.statusword(), 0x40)
                 self.assertEqual(b.statusword(), 0x40)
                 with socket.create_connection(("127.0.0.1", port), timeout=5) as s:
-                    s.sendall(READ_6041)
-                    s.settimeout(5)
-                    self.assertEqual(s.recv(100), b"", "the third connection is closed at once without a byte")
+                    try:
+                        s.sendall(READ_6041)
+                        got = s.recv(100)
+                    except (ConnectionResetError, BrokenPipeError):  # closed with the request unread: RST, not FIN
+                        got = b""
+                    self.assertEqual(got, b"", "the third connection is closed at once without a byte")
                 self.assertEqual(a.statusword(), 0x40)
                 b.close()
                 # a slot is free again
