@@ -2,11 +2,12 @@
 //
 // A minimal single-threaded Asio TCP echo server (a child process, like mcemu) and mcemu on
 // loopback, driven by the same closed-loop client (bench/load_client.hpp): RefGo `TP\r` on 1 and
-// 16 connections, an SDO upload of 6041h over SLCAN on 1 connection and HTTP GET /api/v1/status on
-// 1 and 8 keep-alive connections; the echo server gets the
-// same request bytes and sends them back. Rounds alternate mcemu / echo several times; the
-// medians of the rounds are printed with the ratios, and the CPU seconds each server used.
-// Goal: mcemu ≥ 95 % of echo's throughput, p99 ≤ 1.25 × echo's p99.
+// 16 connections, an SDO upload of 6041h over SLCAN on 1 connection, HTTP GET /api/v1/status on
+// 1 and 8 keep-alive connections, and an SDO read of 6041h over the FAULHABER binary protocol
+// (faulhaber.md §5: the 9-byte request, an 11-byte answer) against a second mcemu child running
+// FH_MC5005; the echo server gets the same request bytes and sends them back. Rounds alternate mcemu / echo several
+// times; the medians of the rounds are printed with the ratios, and the CPU seconds each server used. Goal: mcemu ≥ 95
+// % of echo's throughput, p99 ≤ 1.25 × echo's p99.
 //
 // The CPU columns: all CPU (user + system) and the user part alone per request; at 16 connections
 // both servers run at ~100 % of a core, so the throughput ratio follows the CPU-per-request ratio,
@@ -15,6 +16,7 @@
 //
 // Usage: echo_ratio [path/to/mcemu] [seconds per round, default 3] [rounds, default 5] [scenario filter]
 // (the filter: only scenarios whose name contains it, e.g. "16 conn")
+#include <algorithm>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/write.hpp>
@@ -85,6 +87,7 @@ struct Scenario {
   std::string request;
   Complete mcemu_complete;
   int connections;
+  bool faulhaber = false;  // against the FH_MC5005 child instead of the MovingCap one
 };
 
 struct Round {
@@ -131,6 +134,11 @@ int main(int argc, char** argv) {
     return b.size() >= end + 4 + std::stoul(b.substr(at + 16));
   };
   const std::string status_get = "GET /api/v1/status HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+  // A FAULHABER frame is complete when it has L + 2 bytes (byte 1 is L).
+  const Complete fh_frame = [](const std::string& b) {
+    return b.size() >= 2 && b.size() >= static_cast<std::size_t>(static_cast<unsigned char>(b[1])) + 2;
+  };
+  const std::string fh_read_6041("\x53\x07\x01\x01\x41\x60\x00\x73\x45", 9);  // faulhaber.md §5
   const std::vector<Scenario> scenarios = {
       {"RefGo TP, 1 connection", "refgo", "TP\r", refgo_reply, 1},
       {"RefGo TP, 16 connections", "refgo", "TP\r", refgo_reply, 16},
@@ -139,7 +147,15 @@ int main(int argc, char** argv) {
       // request bytes, so this ratio prices the snapshot and the HTTP layer together
       {"HTTP GET /api/v1/status, 1 conn", "http", status_get, http_reply, 1},
       {"HTTP GET /api/v1/status, 8 conns", "http", status_get, http_reply, 8},
+      {"SDO read 6041h, FAULHABER, 1 conn", "faulhaber", fh_read_6041, fh_frame, 1, true},
   };
+  const auto selected = [&](const Scenario& s) { return std::string(s.name).find(filter) != std::string::npos; };
+  // The FAULHABER personality is its own process (a drive has one personality); started only when a
+  // selected scenario needs it, with its own state directory.
+  Child fh;
+  if (std::any_of(scenarios.begin(), scenarios.end(), [&](const Scenario& s) { return s.faulhaber && selected(s); })) {
+    start_mcemu(fh, binary, {"--model", "FH_MC5005", "--faulhaber-port", "0"}, state.string() + "-fh");
+  }
 
   std::printf("echo_ratio: %d rounds of %.1f s per server and scenario, alternating; medians of the rounds\n", rounds,
               static_cast<double>(seconds.count()) / 1000.0);
@@ -147,12 +163,13 @@ int main(int argc, char** argv) {
   std::printf("%-32s %-6s %12s %9s %9s %10s %10s\n", "scenario", "server", "requests/s", "p50 us", "p99 us",
               "cpu us/req", "user us/r");
   for (const auto& s : scenarios) {
-    if (std::string(s.name).find(filter) == std::string::npos) continue;
+    if (!selected(s)) continue;
     std::vector<double> mt, m50, m99, mc, mu, et, e50, e99, ec, eu;
     for (int r = 0; r < rounds; ++r) {
       const auto one = [&](bool use_mcemu) {
-        const Child& server = use_mcemu ? mcemu : echo;
-        const std::uint16_t port = use_mcemu ? mcemu.ports.at(s.service) : echo.ports.at("echo");
+        const Child& drive = s.faulhaber ? fh : mcemu;
+        const Child& server = use_mcemu ? drive : echo;
+        const std::uint16_t port = use_mcemu ? drive.ports.at(s.service) : echo.ports.at("echo");
         const std::size_t n = s.request.size();
         const Complete echo_reply = [n](const std::string& b) { return b.size() >= n; };
         const Round x =
@@ -176,5 +193,6 @@ int main(int argc, char** argv) {
   }
   std::printf("load after: %s\n", load_line().c_str());
   std::filesystem::remove_all(state);
+  std::filesystem::remove_all(state.string() + "-fh");
   return 0;
 }

@@ -4,15 +4,29 @@ namespace mcemu::faulhaber {
 
 // Text is built by appending to one string: no temporaries per frame (the trace runs on every
 // request), and no operator+ chains, for which GCC 12 reports a false -Wrestrict.
+namespace {
+constexpr char k_digits[] = "0123456789ABCDEF";
+}  // namespace
+
+// Both hex writers grow the string once and fill it in place: a push_back per character cost
+// ~50 instructions per byte, a tenth of a whole SDO request (callgrind, bench/echo_ratio).
 void append_hex(std::string& s, std::uint32_t v, int digits) {
-  static constexpr char k_digits[] = "0123456789ABCDEF";
-  for (int i = digits - 1; i >= 0; --i) s.push_back(k_digits[(v >> (4 * i)) & 0xF]);
+  if (digits <= 0) return;
+  const std::size_t at = s.size();
+  s.resize(at + static_cast<std::size_t>(digits));
+  char* p = s.data() + at;
+  for (int i = digits - 1; i >= 0; --i) *p++ = k_digits[(v >> (4 * i)) & 0xF];
 }
 
 void append_hex(std::string& s, std::span<const std::uint8_t> bytes) {
+  if (bytes.empty()) return;
+  const std::size_t at = s.size();
+  s.resize(at + 3 * bytes.size() - 1);  // "XX" per byte, one space between
+  char* p = s.data() + at;
   for (std::size_t i = 0; i < bytes.size(); ++i) {
-    if (i > 0) s.push_back(' ');
-    append_hex(s, bytes[i], 2);
+    if (i > 0) *p++ = ' ';
+    *p++ = k_digits[bytes[i] >> 4];
+    *p++ = k_digits[bytes[i] & 0xF];
   }
 }
 

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include "tests/protocols/faulhaber/test_dictionary.hpp"
 
 namespace mcemu::faulhaber {
@@ -50,7 +53,32 @@ TEST(Describe, Summaries) {
 
 TEST(Describe, Hex) {
   EXPECT_EQ(hex(test::bytes("53 07 0a ff")), "53 07 0A FF");
+  EXPECT_EQ(hex(test::bytes("00")), "00");
   EXPECT_EQ(hex({}), "");
+}
+
+// The appenders add to what is there and leave it alone (they write in place after one resize).
+TEST(Describe, AppendHexKeepsThePrefix) {
+  std::string s = "rx ";
+  append_hex(s, test::bytes("53 0b 01 01 64 60 00 09 00 00 00 53 45"));
+  EXPECT_EQ(s, "rx 53 0B 01 01 64 60 00 09 00 00 00 53 45");
+  append_hex(s, std::span<const std::uint8_t>{});
+  EXPECT_EQ(s, "rx 53 0B 01 01 64 60 00 09 00 00 00 53 45");
+  s = "0x";
+  append_hex(s, 0x0427u, 4);
+  EXPECT_EQ(s, "0x0427");
+  append_hex(s, 0xDEADBEEFu, 8);
+  EXPECT_EQ(s, "0x0427DEADBEEF");
+  append_hex(s, 0xFu, 0);
+  EXPECT_EQ(s, "0x0427DEADBEEF");
+  // every byte value round-trips
+  std::vector<std::uint8_t> all(256);
+  for (int i = 0; i < 256; ++i) all[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(i);
+  const std::string text = hex(all);
+  ASSERT_EQ(text.size(), 3 * 256 - 1);
+  for (int i = 0; i < 256; ++i) {
+    EXPECT_EQ(std::stoi(text.substr(static_cast<std::size_t>(3 * i), 2), nullptr, 16), i);
+  }
 }
 
 }  // namespace
