@@ -102,6 +102,8 @@ test('FAULHABER: the same panel on its Emulator page; --lint strict shown', { sk
     await waitFor(async () => (await page.locator('#emu-lint-recent li').count()) === 1, { what: 'the finding listed' });
     assert.match(await page.locator('#emu-lint-recent li').first().textContent(), /controlword 0x0007 \(Switch on\) in Switch on disabled is ignored/);
     assert.match(await page.locator('#emu-lint-totals').textContent(), /1 failing in strict tests/);
+    await page.locator('#lint').scrollIntoViewIfNeeded();
+    await page.locator('#lint').screenshot({ path: path.join(SCREENSHOT_DIR, 'emulator-lint-faulhaber.png') });
     g.assertClean();
     await g.close();
   } finally {
