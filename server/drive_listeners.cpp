@@ -169,20 +169,20 @@ void DriveUnit::open_faulhaber_pty() {
 // faulhaber with its hex and a decoded summary (the texts are only valid during the call).
 std::unique_ptr<line::StreamSession> DriveUnit::make_faulhaber_session(const line::net::PeerInfo& peer) {
   const auto tap = connection_trace(trace::Channel::faulhaber, peer);
-  auto& lint = device_->lint();
-  auto session =
-      device_->faulhaber_port()->make_session(lint.faulhaber_trace(peer.id, [tap](const faulhaber::TraceEvent& e) {
-        using K = faulhaber::TraceEvent::Kind;
-        const auto dir = e.kind == K::rx ? trace::Dir::rx : e.kind == K::tx ? trace::Dir::tx : trace::Dir::event;
-        std::string text;
-        text.reserve(e.hex.size() + e.summary.size() + 16);
-        if (e.kind == K::dropped) text += "dropped ";
-        if (e.kind == K::ignored) text += "ignored ";
-        text += e.hex;
-        if (!e.hex.empty() && !e.summary.empty()) text += " | ";
-        text += e.summary;
-        tap(dir, text, {});
-      }));
+  faulhaber::Port::Trace frames = [tap](const faulhaber::TraceEvent& e) {
+    using K = faulhaber::TraceEvent::Kind;
+    const auto dir = e.kind == K::rx ? trace::Dir::rx : e.kind == K::tx ? trace::Dir::tx : trace::Dir::event;
+    std::string text;
+    text.reserve(e.hex.size() + e.summary.size() + 16);
+    if (e.kind == K::dropped) text += "dropped ";
+    if (e.kind == K::ignored) text += "ignored ";
+    text += e.hex;
+    if (!e.hex.empty() && !e.summary.empty()) text += " | ";
+    text += e.summary;
+    tap(dir, text, {});
+  };
+  auto& lint = device_->lint();  // the master lint reads requests and replies from the trace
+  auto session = device_->faulhaber_port()->make_session(lint.faulhaber_trace(peer.id, std::move(frames)));
   auto hooks = client_hooks(false);
   hooks.trace = tap;
   return std::make_unique<ClientSession>(lint.wrap(std::move(session), peer.id), alive_.watch(), std::move(hooks),
