@@ -87,8 +87,14 @@ std::unique_ptr<line::StreamSession> CanopenBus::make_session(slcan::Session::Tr
 }
 
 void CanopenBus::power_on() {
+  const auto before = node_->state();
   powered_at_ = now_;
   node_->power_on(now_);
+  nmt_since(before);
+}
+
+void CanopenBus::nmt_since(canopen::NmtState before) {
+  if (observer_.nmt && node_->state() != before) observer_.nmt(before, node_->state());
 }
 
 void CanopenBus::start() {
@@ -98,14 +104,24 @@ void CanopenBus::start() {
 
 void CanopenBus::step(std::chrono::milliseconds dt) {
   now_ += dt;
-  broadcast(node_->advance(now_));
+  const auto before = node_->state();
+  auto frames = node_->advance(now_);
+  nmt_since(before);
+  broadcast(frames);
 }
 
-void CanopenBus::from_client(const can::Frame& frame) { broadcast(node_->on_frame(frame, now_)); }
+void CanopenBus::from_client(const can::Frame& frame) {
+  if (observer_.client_frame) observer_.client_frame(frame);
+  const auto before = node_->state();
+  auto frames = node_->on_frame(frame, now_);
+  nmt_since(before);
+  broadcast(frames);
+}
 
 void CanopenBus::broadcast(const std::vector<can::Frame>& frames) {
   const auto stamp = now_ - powered_at_;
   for (const auto& f : frames) {
+    if (observer_.node_frame) observer_.node_frame(f);
     const auto v = faults_.node_frame ? faults_.node_frame(f) : device::Verdict{};
     if (v.action == device::Verdict::Action::drop) {
       if (faults_.trace) faults_.trace(device::verdict_text(v, frame_text(f)));

@@ -60,6 +60,14 @@ class CanopenBus {
     std::function<void(const std::string& text)> trace;            // a frame dropped or held back
   };
   void set_faults(Faults f) { faults_ = std::move(f); }
+
+  // What the master lint sees of the bus (device/lint_hub.hpp); each member may be empty.
+  struct Observer {
+    std::function<void(const can::Frame&)> client_frame;  // a client's frame, before the node gets it
+    std::function<void(const can::Frame&)> node_frame;    // each frame the node sends, before transport faults
+    std::function<void(canopen::NmtState from, canopen::NmtState to)> nmt;  // the node's NMT state changed
+  };
+  void set_observer(Observer o) { observer_ = std::move(o); }
   // Sends the held-back frames whose time has come; asks for the next call through schedule().
   void release_delayed();
   std::optional<std::chrono::milliseconds> next_release() const { return delayed_.next_due(); }
@@ -89,6 +97,7 @@ class CanopenBus {
   void from_client(const can::Frame& frame);
   void broadcast(const std::vector<can::Frame>& frames);
   void deliver(const Stamped& f);
+  void nmt_since(canopen::NmtState before);
 
   od::ObjectDictionary& od_;
   slcan::SlcanConfig slcan_;
@@ -98,6 +107,7 @@ class CanopenBus {
   std::chrono::milliseconds now_{0};
   std::chrono::milliseconds powered_at_{0};
   Faults faults_;
+  Observer observer_;
   device::DelayLine<Stamped> delayed_;
 };
 

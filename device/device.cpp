@@ -10,6 +10,7 @@
 #include "drive/faults.hpp"
 #include "drive/od/model_tables.hpp"
 #include "drive/od/objects.hpp"
+#include "lint/reporter.hpp"
 #include "protocols/canopen/comm_reload.hpp"
 #include "protocols/canopen/dynamic_mapping.hpp"
 #include "protocols/udp_debug/messages.hpp"
@@ -25,6 +26,18 @@ RuntimeSettings runtime_settings(const nlohmann::json& config) {
   if (it == config.end()) return s;
   if (auto error = apply_settings(s, *it)) throw ConfigError("invalid \"settings\" in --config: " + *error);
   return s;
+}
+
+// The "lint" section (docs/lint.md §3) under --lint and --clock manual (the timing rules compare drive
+// time, which stands still between the requests of a manual clock: off unless the section says).
+lint::Config lint_config(const nlohmann::json& config, const Setup& setup) {
+  const auto it = config.find("lint");
+  const nlohmann::json section = it == config.end() ? nlohmann::json::object() : *it;
+  if (!section.is_object()) throw std::invalid_argument("lint: must be an object");
+  lint::Config c = lint::config_from_json(section);
+  if (setup.lint_mode) c.mode = *setup.lint_mode;
+  if (setup.manual_clock && !section.contains("timing")) c.timing = false;
+  return c;
 }
 
 std::string hex2(std::uint32_t v) {
@@ -47,6 +60,7 @@ Device::Device(Setup setup, Environment env)
     slcan_config_ = slcan::slcan_config_from_json(config_.value("slcan", nlohmann::json::object()));
     canopen_config_ = canopen::canopen_config_from_json(config_.value("canopen", nlohmann::json::object()));
     if (config_.contains("faulhaber")) fh_config_ = faulhaber::faulhaber_config_from_json(config_["faulhaber"]);
+    lint_config_ = lint_config(config_, setup_);
   } catch (const std::invalid_argument& e) {
     throw ConfigError(std::string("config: ") + e.what());
   }
@@ -101,6 +115,7 @@ void Device::build_core() {
   } catch (const std::invalid_argument& e) {
     throw ConfigError(std::string("invalid plant configuration in --config: ") + e.what());
   }
+  build_lint();
   // The I/O functions wrap the core: they step it and power it on (iofunc.md §3).
   if (personality_->io_functions) io_ = std::make_unique<iofunc::IoFunctions>(*od_, *core_);
 
@@ -138,6 +153,22 @@ void Device::power_on(const core::PowerOnState& state) {
   } else {
     core_->power_on(state);
   }
+  lint_->powered_on();
+}
+
+// The master lint (docs/lint.md): one engine, fed through the dictionary's write tap (installed only
+// when the lint is on: off costs nothing), the event hand-off, power on and the sessions.
+void Device::build_lint() {
+  lint_ = std::make_unique<LintHub>(lint_config_, *od_, *core_, [this](const lint::Finding& f) { on_finding(f); });
+  if (lint_->active()) od_->set_write_tap([this](const od::WriteNote& n) { lint_->od_write(n); });
+}
+
+// A reported finding: the trace channel lint; error level also on the UDP console (a note, sent
+// while udpEmulatorNotes is on).
+void Device::on_finding(const lint::Finding& f) {
+  const std::string text = lint::finding_text(f);
+  if (trace_) trace_->record(trace::Channel::lint, trace::Dir::event, text, f.conn);
+  if (f.severity == lint::Severity::error && env_.note) env_.note("lint " + text);
 }
 
 void Device::build_canopen() {
@@ -155,6 +186,13 @@ void Device::build_canopen() {
   hooks.after_od_write = [this] { handle_events(); };
   hooks.diagnostic = [this](const std::string& text) { log(LogLevel::debug, "canopen: " + text); };
   canopen_ = std::make_unique<CanopenBus>(*od_, slcan_config_, canopen_config_, std::move(hooks));
+  if (lint_->active()) {
+    CanopenBus::Observer o;
+    o.client_frame = [this](const can::Frame& f) { lint_->can_frame(f, canopen_->node().node_id()); };
+    o.node_frame = [this](const can::Frame& f) { lint_->can_sent(f, canopen_->node().node_id()); };
+    o.nmt = [this](canopen::NmtState from, canopen::NmtState to) { lint_->nmt(from, to); };
+    canopen_->set_observer(std::move(o));
+  }
 }
 
 // The FAULHABER binary protocol (faulhaber.md §2–§6): one port for every connection of this drive.
@@ -205,6 +243,7 @@ void Device::build_basic() {
   });
   basic_ = std::make_unique<basic::Programs>(*od_, *basic_vars_, std::move(bs), [this](const basic::Event& e) {
     trace_->record(trace::Channel::basic, trace::Dir::event, basic::describe(e));
+    if (e.kind == basic::EventKind::save) lint_->flash(lint::FlashKind::program, od::Origin::script);  // AN165
     if (e.kind == basic::EventKind::error) log(LogLevel::warning, "MC BASIC: " + basic::describe(e));
   });
   basic_->set_autostart(autostart);
@@ -292,7 +331,7 @@ void Device::build_steps() {
     parts_.push_back(std::make_unique<FaultsPart>(*faults_, *core_));
     parts_.push_back(std::make_unique<ScopePart>(scope_, *core_, *od_));
     if (refgo_) parts_.push_back(std::make_unique<RefgoPart>(*refgo_, *core_));
-    if (basic_) parts_.push_back(std::make_unique<BasicPart>(*basic_, *core_));
+    if (basic_) parts_.push_back(std::make_unique<BasicPart>(*basic_, *core_, lint_.get()));
     parts_.push_back(std::make_unique<sim::HookPart>([this] { handle_events(); }));
     if (canopen_) parts_.push_back(std::make_unique<CanopenPart>(*canopen_));
     if (fh_port_) parts_.push_back(std::make_unique<FaulhaberPart>(*fh_port_, *core_));
@@ -329,6 +368,7 @@ void Device::handle_events() {
   leds_.update_status(*core_, *od_);
   if (!has_1002_) faults_->observe_fault_bits(core_->fault_bits());
   for (const auto& e : core_->drain_events()) {
+    lint_->core_event(e);
     trace_->record(trace::Channel::drive, trace::Dir::event, core::event_text(e));  // web.md §8.6
     if (const auto* emcy = std::get_if<core::Emcy>(&e)) {
       if (canopen_) canopen_->node().emit_emcy(emcy->code, emcy->reg, emcy->data);

@@ -22,6 +22,7 @@
 
 #include "device/canopen_bus.hpp"
 #include "device/faults.hpp"
+#include "device/lint_hub.hpp"
 #include "device/personality.hpp"
 #include "device/refusal.hpp"
 #include "device/runtime_settings.hpp"
@@ -31,6 +32,7 @@
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
 #include "iofunc/io_functions.hpp"
+#include "lint/config.hpp"
 #include "persistence/service.hpp"
 #include "protocols/canopen/config.hpp"
 #include "protocols/faulhaber/config.hpp"
@@ -54,6 +56,11 @@ struct Setup {
   std::string mcemu_version = "0.0.0";
   // Plant and homing settings given as a value (tests); nullopt: the "plant"/"homing" sections.
   std::optional<core::PlantConfig> plant;
+  // --lint off|warn|strict: overrides "lint.mode" of the config (docs/lint.md §3).
+  std::optional<lint::Mode> lint_mode;
+  // --clock manual: drive time stands still between requests, so the lint's timing rules are off
+  // unless the "lint" section sets "timing" itself.
+  bool manual_clock = false;
 };
 
 enum class LogLevel : std::uint8_t { debug, info, warning, error };
@@ -131,6 +138,10 @@ class Device {
   std::uint64_t basic_saves() const { return basic_vars_ ? basic_vars_->saves() : 0; }
   const faulhaber::FaulhaberConfig& faulhaber_config() const { return fh_config_; }
   const slcan::SlcanConfig& slcan_config() const { return slcan_config_; }
+  // The master lint (docs/lint.md): its engine (GET/DELETE /api/v1/lint) and its producers (the
+  // shell's sessions report requests, replies and the connection being served).
+  LintHub& lint() { return *lint_; }
+  const LintHub& lint() const { return *lint_; }
 
   // What the clock advances (quiet stretches skipped exactly, docs/clock.md).
   sim::DriveSteps& steps() { return *steps_; }
@@ -171,6 +182,8 @@ class Device {
   void log(LogLevel level, const std::string& text) const;
   void build_dictionary();
   void build_core();
+  void build_lint();
+  void on_finding(const lint::Finding& f);
   void build_canopen();
   void build_faulhaber();
   void device_reset();
@@ -194,10 +207,12 @@ class Device {
   nlohmann::json config_;
   slcan::SlcanConfig slcan_config_;
   canopen::CanopenConfig canopen_config_;
+  lint::Config lint_config_;
   std::unique_ptr<od::ObjectDictionary> od_;
   std::optional<persistence::Image> loaded_;  // the state file at start-up, until the service owns it
   persistence::Image factory_;
   std::unique_ptr<core::DriveCore> core_;
+  std::unique_ptr<LintHub> lint_;
   std::unique_ptr<iofunc::IoFunctions> io_;
   std::unique_ptr<persistence::Service> persistence_;
   std::unique_ptr<refgo::Interpreter> refgo_;

@@ -7,6 +7,7 @@
 
 #include "device/canopen_bus.hpp"
 #include "device/faults.hpp"
+#include "device/lint_hub.hpp"
 #include "device/scope.hpp"
 #include "drive/drive_core.hpp"
 #include "protocols/faulhaber/port.hpp"
@@ -89,14 +90,22 @@ class FaulhaberPart final : public sim::Part {
 // no program runs or the running one only waits on values that do not change.
 class BasicPart final : public sim::Part {
  public:
-  BasicPart(basic::Programs& programs, const core::DriveCore& core) : programs_(programs), core_(core) {}
-  void step() override { programs_.step(core_.time_ms()); }
+  // `lint`: told after each step how long the running program has gone without waiting.
+  BasicPart(basic::Programs& programs, const core::DriveCore& core, LintHub* lint = nullptr)
+      : programs_(programs), core_(core), lint_(lint && lint->active() ? lint : nullptr) {}
+  void step() override {
+    programs_.step(core_.time_ms());
+    if (lint_ && programs_.running() != 0) {
+      lint_->script_loop(lint::ScriptKind::basic, programs_.interpreter().statements_since_wait());
+    }
+  }
   std::uint64_t quiet_steps() const override { return programs_.quiet_steps(); }
   void skip(std::uint64_t n) override { programs_.skip(n); }
 
  private:
   basic::Programs& programs_;
   const core::DriveCore& core_;
+  LintHub* lint_;
 };
 
 }  // namespace mcemu::device

@@ -81,6 +81,7 @@ struct ScriptEngine::Run {
   std::string source;  // the bytes at the start request
   std::uint64_t compile_due_ms = 0;
   std::optional<std::uint64_t> sleep_due_ms;
+  std::uint64_t calls_since_wait = 0;
   bool frozen = false;   // paused: requests are held
   bool hello = false;    // the runner is up: its SIGUSR1 handler is installed
   bool stopped = false;  // SIGSTOP sent (paused)
@@ -492,6 +493,8 @@ void ScriptEngine::handle(const std::shared_ptr<Run>& run, ipc::Message& m, bool
       const std::int64_t us = (*v)[0].i;
       const std::uint64_t ms = us <= 0 ? 1 : static_cast<std::uint64_t>((us + 999) / 1000);
       run->sleep_due_ms = now_ms() + ms;
+      run->calls_since_wait = 0;
+      if (callbacks_.calls) callbacks_.calls(0);
       settled();
       return;
     }
@@ -543,6 +546,8 @@ void ScriptEngine::handle_call(const std::shared_ptr<Run>& run, const std::strin
   auto r = execute_call(calls_, *call, later, malformed);
   if (malformed) return protocol_error(run, "malformed call");
   if (callbacks_.after_call) callbacks_.after_call();
+  run->calls_since_wait = r ? run->calls_since_wait + 1 : 0;  // an answer that comes later: the script waits
+  if (callbacks_.calls) callbacks_.calls(run->calls_since_wait);
   if (!r) return;
   if (!text.empty()) trace_event(text + " -> " + (r->empty() ? "None" : describe((*r)[0])));
   if (run == run_) reply(run, *r);

@@ -70,6 +70,9 @@ struct EngineCallbacks {
   std::function<void(const nlohmann::json& record)> record_changed;
   // After every module call of the script (e.g. drain the core's events: EMCY, faults).
   std::function<void()> after_call;
+  // After every module call and every sleep: the calls the script made since it last waited (a
+  // sleep, or a call answered later, such as a blocking read) — the master lint's script.busy_loop.
+  std::function<void(std::uint64_t calls_since_wait)> calls;
   // After a batch of the engine's messages or its exit was handled outside a drive step: the
   // drive, the next deadline or the lock-step readiness may have changed (a call, a sleep begun
   // or cancelled, the run ended) — the clock re-plans (ClockDriver::wake).

@@ -59,19 +59,26 @@ void ClientSession::reply(std::string text) {
   const auto v = hooks_.reply_verdict && alive() ? hooks_.reply_verdict() : device::Verdict{};
   if (v.action == device::Verdict::Action::drop) {
     trace(trace::Dir::event, device::verdict_text(v, "reply") + ": " + text);
+    if (hooks_.replied && alive()) hooks_.replied(false);
     return;
   }
   if (v.action == device::Verdict::Action::delay) trace(trace::Dir::event, device::verdict_text(v, "reply"));
   if (v.action == device::Verdict::Action::send && held_.empty()) {  // the common case: no clock read
     trace(trace::Dir::tx, text);
+    sent();
     ready_ += text;
     return;
   }
   const auto now = wall_now();
   if (auto at_once = held_.push(std::move(text), now, now + v.delay)) {
     trace(trace::Dir::tx, *at_once);
+    sent();
     ready_ += *at_once;
   }
+}
+
+void ClientSession::sent() const {
+  if (hooks_.replied && alive()) hooks_.replied(true);
 }
 
 void ClientSession::trace(trace::Dir dir, std::string_view text, trace::Flags flags) const {
@@ -91,6 +98,7 @@ void ClientSession::release(std::string& out) {
   if (!due_now.empty() && alive()) hooks_.sync();  // the trace shows the drive time of sending
   for (auto& r : due_now) {
     trace(trace::Dir::tx, r);
+    sent();
     ready_ += r;
   }
   out += std::exchange(ready_, {});

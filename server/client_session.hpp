@@ -40,6 +40,8 @@ class ClientSession final : public line::StreamSession {
     // This connection's trace (channel, conn and peer bound); empty: no trace.
     std::function<void(trace::Dir dir, std::string_view text, trace::Flags flags)> trace;
     std::function<device::Verdict()> reply_verdict;  // empty: replies pass through the inner session
+    // A reply unit was sent (true; a held-back one when it goes out) or dropped by refgo.noReply (false).
+    std::function<void(bool sent)> replied;
   };
 
   // `what` names the client in notes ("refgo client 127.0.0.1").
@@ -64,6 +66,7 @@ class ClientSession final : public line::StreamSession {
   using Ms = std::chrono::milliseconds;
   static Ms wall_now();
   bool alive() const { return owner_.alive(); }
+  void sent() const;  // hooks_.replied(true)
   // Appends the replies that may go now; arms the timer for the next held-back one.
   void release(std::string& out);
 

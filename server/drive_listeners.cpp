@@ -115,18 +115,30 @@ std::function<void(trace::Dir, std::string_view, trace::Flags)> DriveUnit::conne
 std::unique_ptr<line::StreamSession> DriveUnit::make_refgo_session(const line::net::PeerInfo& peer) {
   auto inner = std::make_unique<refgo::Session>(*device_->refgo());
   auto* refgo = inner.get();
+  auto& lint = device_->lint();
   auto hooks = client_hooks(true);
   hooks.trace = connection_trace(trace::Channel::refgo, peer);
   hooks.reply_verdict = [this] { return device::refgo_reply_verdict(device_->transport_faults()); };
-  auto client = std::make_unique<ClientSession>(std::move(inner), alive_.watch(), std::move(hooks),
+  // The master lint (docs/lint.md §4.4): each reply as it goes out (after refgo.delay) or is dropped.
+  if (lint.active()) {
+    hooks.replied = [&lint, conn = peer.id](bool sent) {
+      lint.reply(lint::Link::refgo, conn, sent ? lint::ReplyKind::response : lint::ReplyKind::none);
+    };
+  }
+  auto client = std::make_unique<ClientSession>(lint.wrap(std::move(inner), peer.id), alive_.watch(), std::move(hooks),
                                                 "refgo client " + peer.address, io_.get_executor());
   refgo->set_reply_sink([c = client.get()](std::string reply) { c->reply(std::move(reply)); });
   refgo::Session::Observer observer;
-  // Over-long lines are traced as their first 64 bytes (web.md §8.6).
-  observer.received = [c = client.get()](const line::Line& l) {
+  // Over-long lines are traced as their first 64 bytes (web.md §8.6). The lint gets every line as a
+  // request; one that only a script gets (refgo.md §5) expects no reply from the drive.
+  observer.received = [c = client.get(), lint = lint.active() ? &lint : nullptr, interpreter = device_->refgo(),
+                       alive = alive_.watch(), conn = peer.id](const line::Line& l) {
     trace::Flags f;
     f.overlong = l.overlong;
     c->trace(trace::Dir::rx, std::string_view(l.raw).substr(0, l.overlong ? 64 : std::string_view::npos), f);
+    if (lint && alive) {
+      lint->request(lint::Link::refgo, conn, l.overlong || interpreter->attachment().route(l.text).execute);
+    }
   };
   observer.to_script = [c = client.get()](std::string_view text, bool discarded) {
     trace::Flags f;
@@ -158,7 +170,7 @@ void DriveUnit::open_faulhaber_pty() {
 // faulhaber with its hex and a decoded summary (the texts are only valid during the call).
 std::unique_ptr<line::StreamSession> DriveUnit::make_faulhaber_session(const line::net::PeerInfo& peer) {
   const auto tap = connection_trace(trace::Channel::faulhaber, peer);
-  auto session = device_->faulhaber_port()->make_session([tap](const faulhaber::TraceEvent& e) {
+  faulhaber::Port::Trace frames = [tap](const faulhaber::TraceEvent& e) {
     using K = faulhaber::TraceEvent::Kind;
     const auto dir = e.kind == K::rx ? trace::Dir::rx : e.kind == K::tx ? trace::Dir::tx : trace::Dir::event;
     std::string text;
@@ -169,10 +181,12 @@ std::unique_ptr<line::StreamSession> DriveUnit::make_faulhaber_session(const lin
     if (!e.hex.empty() && !e.summary.empty()) text += " | ";
     text += e.summary;
     tap(dir, text, {});
-  });
+  };
+  auto& lint = device_->lint();  // the master lint reads requests and replies from the trace
+  auto session = device_->faulhaber_port()->make_session(lint.faulhaber_trace(peer.id, std::move(frames)));
   auto hooks = client_hooks(false);
   hooks.trace = tap;
-  return std::make_unique<ClientSession>(std::move(session), alive_.watch(), std::move(hooks),
+  return std::make_unique<ClientSession>(lint.wrap(std::move(session), peer.id), alive_.watch(), std::move(hooks),
                                          "faulhaber client " + peer.address, io_.get_executor());
 }
 
@@ -188,8 +202,8 @@ std::unique_ptr<line::StreamSession> DriveUnit::make_slcan_session(const line::n
   });
   auto hooks = client_hooks(false);
   hooks.trace = tap;
-  return std::make_unique<ClientSession>(std::move(session), alive_.watch(), std::move(hooks),
-                                         "slcan client " + peer.address, io_.get_executor());
+  return std::make_unique<ClientSession>(device_->lint().wrap(std::move(session), peer.id), alive_.watch(),
+                                         std::move(hooks), "slcan client " + peer.address, io_.get_executor());
 }
 
 }  // namespace mcemu::server

@@ -119,6 +119,9 @@ void DriveUnit::build_script() {
   cb.console = [this](std::string message) { udp_debug_->emit(std::move(message)); };
   cb.record_changed = [this](const nlohmann::json& record) { device_->persistence().set_script(record); };
   cb.after_call = [this] { device_->handle_events(); };  // EMCY, faults, UDP notes of the call's effects
+  if (device_->lint().active()) {
+    cb.calls = [this](std::uint64_t n) { device_->lint().script_loop(lint::ScriptKind::code, n); };
+  }
   cb.changed = [this] { wake(); };
   const auto& rs = device_->settings();
   scripting::EngineSettings es;

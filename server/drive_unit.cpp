@@ -71,6 +71,8 @@ DriveUnit::DriveUnit(asio::io_context& io, Settings settings, int number, std::s
   setup.config = settings_.config;
   if (settings_.ip_explicit) setup.explicit_ip = parse_ipv4(settings_.ip, "--ip");
   setup.mcemu_version = MCEMU_VERSION;
+  setup.lint_mode = settings_.lint_mode;
+  setup.manual_clock = settings_.clock.kind == sim::ClockMode::Kind::manual;
   device_ = std::make_unique<device::Device>(std::move(setup), environment());
   device::Observers observers;
   observers.powering_down = [this] { script_power_down(); };

@@ -118,6 +118,7 @@ void DriveUnit::build_web(const asio::ip::address& address) {
   auto handler = [this, alive = alive_.watch()](const web::api::Request& r, web::api::Respond respond) {
     if (!alive) return respond(web::api::error_page(503, "the drive is shutting down"));
     sync();
+    const auto serving = device_->lint().serve(r.conn);  // the lint: this request's writes carry its connection
     router_->handle(r, std::move(respond));
     wake();
   };

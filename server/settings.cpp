@@ -123,6 +123,10 @@ void set_option(Settings& s, const std::string& name, const std::string& value, 
   } else if (name == "api-token") {
     if (value.empty()) throw UsageError("empty value for " + what);
     s.api_token_file = value;
+  } else if (name == "lint") {
+    const auto mode = lint::mode_from_string(value);
+    if (!mode) throw UsageError("invalid value '" + value + "' for " + what + " (off, warn, strict)");
+    s.lint_mode = *mode;
   } else if (name == "clock") {
     try {
       s.clock = sim::parse_clock_mode(value);
@@ -137,7 +141,7 @@ void set_option(Settings& s, const std::string& name, const std::string& value, 
 const std::set<std::string> k_value_flags = {
     "model",     "bind",   "refgo-port",     "slcan-port",    "http-port",    "udp-port", "ip",
     "state-dir", "config", "log-level",      "max-clients",   "idle-timeout", "drives",   "port-step",
-    "fleet",     "clock",  "faulhaber-port", "faulhaber-pty", "api-token"};
+    "fleet",     "clock",  "faulhaber-port", "faulhaber-pty", "api-token",    "lint"};
 
 std::string scalar_text(const json& v, const std::string& what) {
   if (v.is_string()) return v.get<std::string>();
@@ -208,6 +212,7 @@ void apply_config(Settings& s, const json& config, const std::vector<std::string
   for (const auto& [key, value] : config.items()) {
     std::string name = key;
     std::replace(name.begin(), name.end(), '_', '-');
+    if (key == "lint" && value.is_object()) continue;  // the section (docs/lint.md §3); a string is --lint
     if (k_sections.count(key)) {
       if (!value.is_object()) throw UsageError("config: \"" + key + "\" must be an object");
       continue;
@@ -328,6 +333,9 @@ Usage: mcemu [options]
   --api-token FILE    mcemu's own emulator endpoints (settings, clock, power cycle, faults) then
                       need "Authorization: Bearer <the file's first line>"; the drive's own pages
                       and endpoints stay open as on the real drive (docs/security.md)
+  --lint MODE         the master lint (docs/lint.md): off, warn (default: findings on the trace
+                      channel lint and GET /api/v1/lint) or strict (warn-level findings fail
+                      test-kit tests too)
   --unsafe-scripts    run MovingCap CODE scripts even where their sandbox (bwrap, seccomp) cannot
                       be set up: they then run with mcemu's user rights and network access
                       (command line only; docs/security.md)

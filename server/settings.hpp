@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "device/config_error.hpp"
+#include "lint/config.hpp"
 #include "sim/clock_mode.hpp"
 
 namespace mcemu::server {
@@ -56,6 +57,9 @@ struct Settings {
   // emulator endpoints then require; "" = no token.
   std::optional<std::string> api_token_file;
   std::string api_token;
+  // --lint off|warn|strict (docs/lint.md §3): the master lint's mode over the config's "lint.mode";
+  // also "lint": "strict" in a config file or a fleet entry ("lint": {…} is the section).
+  std::optional<lint::Mode> lint_mode;
   bool dump_od = false;
   bool dump_eds = false;
   // --drive K: the drive of --drives/--fleet whose dictionary --dump-od/--dump-eds print (1-based;

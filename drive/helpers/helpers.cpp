@@ -49,6 +49,7 @@ void write_control(const DriveRef& d, std::uint16_t cw) { put(d, 0x6040, 0, cw);
 std::uint16_t read_statusword(const DriveRef& d) { return static_cast<std::uint16_t>(get(d, 0x6041)); }
 
 bool enable_drive(const DriveRef& d) {
+  const od::ObjectDictionary::HelperScope helper(d.od);  // the drive's own sequence (master lint)
   if (chk_enabled(d)) return true;
   if (d.core.state() == PdsState::fault) {
     write_control(d, 0x0000);
@@ -71,6 +72,7 @@ bool enable_drive(const DriveRef& d) {
 }
 
 void power_quit(const DriveRef& d) {
+  const od::ObjectDictionary::HelperScope helper(d.od);  // the drive's own sequence (master lint)
   if (d.core.state() == PdsState::fault) {
     if (controlword(d) & 0x0080) write_control(d, 0x0000);
     write_control(d, 0x0080);
@@ -80,17 +82,20 @@ void power_quit(const DriveRef& d) {
 }
 
 void stop_motion(const DriveRef& d) {
+  const od::ObjectDictionary::HelperScope helper(d.od);  // the drive's own sequence (master lint)
   put(d, 0x605A, 0, 6);
   write_control(d, static_cast<std::uint16_t>((controlword(d) & ~0x0004) | 0x0002));
 }
 
 void continue_motion(const DriveRef& d) {
+  const od::ObjectDictionary::HelperScope helper(d.od);  // the drive's own sequence (master lint)
   if (d.core.state() != PdsState::quick_stop_active) return;
   write_control(d, static_cast<std::uint16_t>((controlword(d) | 0x000F) & ~0x0080));
   d.core.resume_interrupted_motion();
 }
 
 bool autoenable(const DriveRef& d) {
+  const od::ObjectDictionary::HelperScope helper(d.od);  // the drive's own sequence (master lint)
   struct StepTo {
     std::uint16_t cw;
     PdsState expect;
@@ -118,6 +123,7 @@ bool autoenable(const DriveRef& d) {
 namespace {
 
 od::AbortCode go_pos(const DriveRef& d, std::int32_t value, std::uint16_t arm, std::uint16_t fire) {
+  const od::ObjectDictionary::HelperScope helper(d.od);  // the drive's own sequence (master lint)
   if (const auto c = ensure_mode(d, 1); c != od::AbortCode::none) return c;
   const bool enabled = autoenable(d);
   // 607Ah is written even when AUTOENABLE failed: the target is kept for a later start (§12,
@@ -136,6 +142,7 @@ od::AbortCode go_pos_abs(const DriveRef& d, std::int32_t position) { return go_p
 od::AbortCode go_pos_rel(const DriveRef& d, std::int32_t distance) { return go_pos(d, distance, 0x006F, 0x007F); }
 
 od::AbortCode go_vel(const DriveRef& d, std::int32_t velocity) {
+  const od::ObjectDictionary::HelperScope helper(d.od);  // the drive's own sequence (master lint)
   if (const auto c = ensure_mode(d, 3); c != od::AbortCode::none) return c;
   if (!autoenable(d)) return od::AbortCode::device_state;
   if (const std::uint16_t cw = controlword(d); cw & 0x0100) write_control(d, static_cast<std::uint16_t>(cw & ~0x0100));
@@ -157,6 +164,7 @@ HelperResult go_home(const DriveRef& d, std::int8_t method, std::uint32_t speed,
   const auto refused = [](od::AbortCode c, std::uint16_t index, std::uint8_t sub, std::int64_t value) {
     return HelperResult{c, HelperResult::Write{index, sub, value}};
   };
+  const od::ObjectDictionary::HelperScope helper(d.od);  // the drive's own sequence (master lint)
   for (const auto& [index, sub, value] : {std::tuple<std::uint16_t, std::uint8_t, std::int64_t>{0x6098, 0, method},
                                           {0x6099, 1, speed},
                                           {0x609A, 0, acceleration},

@@ -7,7 +7,9 @@
 // one helper happen inside the call, before the next simulation step (§2.5). Single-threaded, on
 // the event-loop thread. Motion helpers return AbortCode::none, the abort code of the first
 // refused write, or AbortCode::device_state when AUTOENABLE could not reach Operation enabled
-// (§12: the helper then starts no motion).
+// (§12: the helper then starts no motion). The writes of a multi-write helper (enable, power quit,
+// stop, continue, AUTOENABLE, the Go helpers) carry ObjectDictionary::HelperScope for the write
+// tap: the master lint judges the master's decisions, not the drive's own sequences.
 #pragma once
 
 #include <cstdint>

@@ -228,6 +228,17 @@ AbortCode ObjectDictionary::commit(Handle h, Value v, Origin origin, Done& done)
 }
 
 AbortCode ObjectDictionary::write(std::uint16_t index, std::uint8_t sub, const Value& value, Origin origin, Done done) {
+  const AbortCode r = write_value(index, sub, value, origin, done);
+  if (tap_) {
+    std::int64_t n = std::holds_alternative<std::int64_t>(value) ? std::get<std::int64_t>(value) : 0;
+    if (const auto* i = info(index, sub); i && n < 0 && i->type == DataType::unsigned32) n += 4294967296LL;
+    tap_(WriteNote{index, sub, n, origin, r, helper_depth_ > 0});
+  }
+  return r;
+}
+
+AbortCode ObjectDictionary::write_value(std::uint16_t index, std::uint8_t sub, const Value& value, Origin origin,
+                                        Done& done) {
   auto h = locate(index, sub);
   if (!h) return h.error();
   const Entry& e = entries_[*h];
@@ -262,6 +273,21 @@ AbortCode ObjectDictionary::check_download(std::uint16_t index, std::uint8_t sub
 
 AbortCode ObjectDictionary::write_bytes(std::uint16_t index, std::uint8_t sub, std::span<const std::byte> data,
                                         SdoLength length, Origin origin, Done done) {
+  const AbortCode r = write_data(index, sub, data, length, origin, done);
+  if (tap_) tap_(WriteNote{index, sub, number_in(index, sub, data), origin, r, helper_depth_ > 0});
+  return r;
+}
+
+std::int64_t ObjectDictionary::number_in(std::uint16_t index, std::uint8_t sub, std::span<const std::byte> data) const {
+  const auto* i = info(index, sub);
+  if (!i || is_string(i->type)) return 0;
+  const std::size_t n = size_of(i->type);
+  if (data.size() >= 4 && n < 4 && i->length_tolerant) return decode_le(data.first(4), DataType::integer32);
+  return data.size() >= n ? decode_le(data.first(n), i->type) : 0;
+}
+
+AbortCode ObjectDictionary::write_data(std::uint16_t index, std::uint8_t sub, std::span<const std::byte> data,
+                                       SdoLength length, Origin origin, Done& done) {
   auto h = locate(index, sub);
   if (!h) return h.error();
   const Entry& e = entries_[*h];

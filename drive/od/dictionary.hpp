@@ -75,6 +75,18 @@ using WriteHook = std::function<AbortCode(WriteRequest&)>;
 using ReadHook = std::function<Result<Value>(const EntryInfo&)>;
 using ChangeListener = std::function<void(const EntryInfo&, const Value&)>;
 
+// One write as the write tap sees it (the master lint, docs/lint.md §2): what was asked and the
+// result, after write() or write_bytes() returned (its hook and any writes the hook made included).
+struct WriteNote {
+  std::uint16_t index = 0;
+  std::uint8_t sub = 0;
+  std::int64_t value = 0;  // the number as converted for the entry (write_bytes: decoded); 0 for strings
+  Origin origin = Origin::internal;
+  AbortCode result = AbortCode::none;
+  bool helper = false;  // made inside a helper sequence (HelperScope, drive-core.md §12)
+};
+using WriteTap = std::function<void(const WriteNote&)>;
+
 // How an SDO download states its length (object-dictionary.md §3.1).
 enum class SdoLength : std::uint8_t { indicated, expedited_unindicated, segmented_unindicated };
 
@@ -120,6 +132,22 @@ class ObjectDictionary {
   void on_write(std::uint16_t index, std::uint8_t sub, WriteHook hook);
   void on_read(std::uint16_t index, std::uint8_t sub, ReadHook hook);
   void on_change(ChangeListener listener);
+  // The one write tap (empty = none, the default): called after every write() and write_bytes() —
+  // not set() and not load_values(). Without a tap a write costs one branch more.
+  void set_write_tap(WriteTap tap) { tap_ = std::move(tap); }
+
+  // While one lives, the writes are marked `helper` for the tap: a helper sequence (drive-core.md
+  // §12) is the drive's own procedure, not a master's decision.
+  class HelperScope {
+   public:
+    explicit HelperScope(ObjectDictionary& od) : od_(od) { ++od_.helper_depth_; }
+    ~HelperScope() { --od_.helper_depth_; }
+    HelperScope(const HelperScope&) = delete;
+    HelperScope& operator=(const HelperScope&) = delete;
+
+   private:
+    ObjectDictionary& od_;
+  };
 
   // Bulk load: type and §5 limits checked per value (a bad one keeps its old value and is
   // reported); no access check, no hooks, no change notifications.
@@ -161,6 +189,11 @@ class ObjectDictionary {
 
   void build_index();
   void install_error_history_rule();
+  AbortCode write_value(std::uint16_t index, std::uint8_t sub, const Value& value, Origin origin, Done& done);
+  AbortCode write_data(std::uint16_t index, std::uint8_t sub, std::span<const std::byte> data, SdoLength length,
+                       Origin origin, Done& done);
+  // The number a tap sees for a write_bytes() of `data` (0 when there is none).
+  std::int64_t number_in(std::uint16_t index, std::uint8_t sub, std::span<const std::byte> data) const;
   // Checks 1–2 of §4.1; returns the entry or the code.
   Result<Handle> locate(std::uint16_t index, std::uint8_t sub) const;
   Result<Value> read_entry(const Entry& e) const;
@@ -172,6 +205,8 @@ class ObjectDictionary {
   std::vector<Entry> entries_;
   std::vector<ObjectSlot> objects_;
   std::vector<ChangeListener> listeners_;
+  WriteTap tap_;
+  int helper_depth_ = 0;
   std::uint64_t generation_ = 0;
 };
 

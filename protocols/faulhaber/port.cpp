@@ -117,7 +117,8 @@ class Port::Session final : public line::StreamSession, private Receiver::Sink {
   void on_frame(const FrameView& f, std::span<const std::uint8_t> raw) override {
     Port* port = registry_->port;
     if (!port || stopped()) return;
-    trace_event(TraceEvent::Kind::rx, raw, [&f](std::string& s) { append_description(s, f, Direction::to_drive); });
+    trace_event(
+        TraceEvent::Kind::rx, raw, [&f](std::string& s) { append_description(s, f, Direction::to_drive); }, f.command);
     const std::uint8_t node = port->node_id();
     if (f.node != node) {
       trace_event(TraceEvent::Kind::ignored, {}, [&](std::string& s) {
@@ -178,13 +179,16 @@ class Port::Session final : public line::StreamSession, private Receiver::Sink {
     const std::size_t n = f.data.size() + 6;
     const std::span<const std::uint8_t> wire(reinterpret_cast<const std::uint8_t*>(output_.data()) + output_.size() - n,
                                              n);
-    trace_event(TraceEvent::Kind::tx, wire, [&](std::string& s) {
-      append_description(s, f.view(), Direction::to_host);
-      if (f.command == command::controlword && code != od::AbortCode::none) {
-        s.append(" 0x");
-        append_hex(s, od::to_u32(code), 8);
-      }
-    });
+    trace_event(
+        TraceEvent::Kind::tx, wire,
+        [&](std::string& s) {
+          append_description(s, f.view(), Direction::to_host);
+          if (f.command == command::controlword && code != od::AbortCode::none) {
+            s.append(" 0x");
+            append_hex(s, od::to_u32(code), 8);
+          }
+        },
+        f.command);
   }
 
   void check_limit() {
@@ -207,13 +211,14 @@ class Port::Session final : public line::StreamSession, private Receiver::Sink {
 
   // One trace line, its texts built in the session's reused buffers (no allocation per frame).
   template <class Text>
-  void trace_event(TraceEvent::Kind kind, std::span<const std::uint8_t> bytes, const Text& text) {
+  void trace_event(TraceEvent::Kind kind, std::span<const std::uint8_t> bytes, const Text& text,
+                   std::uint8_t frame_command = 0) {
     if (!trace_) return;
     trace_hex_.clear();
     append_hex(trace_hex_, bytes);
     trace_text_.clear();
     text(trace_text_);
-    trace_({kind, trace_hex_, trace_text_});
+    trace_({kind, trace_hex_, trace_text_, frame_command});
   }
 
   std::shared_ptr<Registry> registry_;

@@ -65,6 +65,7 @@ struct TraceEvent {
   Kind kind = Kind::event;
   std::string_view hex;
   std::string_view summary;
+  std::uint8_t command = 0;  // rx, tx: the frame's command byte (the master lint tells responses from notifications)
 };
 
 // Entries the port reads (faulhaber.md §6).

@@ -87,6 +87,7 @@ void Interpreter::start(const Program& program, int slot) {
   loops_.assign(program.loops.size(), LoopState{});
   error_ = RunError{};
   state_ = RunState::running;
+  waited_at_ = statements_;
   forget_history();
   emit(Event{.kind = EventKind::started});
   if (program.code.empty()) finish(RunState::finished, EventKind::finished, "end of program");  // not from load()
@@ -144,6 +145,7 @@ void Interpreter::skip(std::uint64_t n) {
   // a skip the contract does not allow (something changed since the last step) moves time only
   if (!running() || cycle_len_ == 0 || n == 0 || od_.generation() != last_end_generation_) return;
   statements_ += n * std::max<std::uint32_t>(settings_.statements_per_ms, 1);
+  waited_at_ = statements_;  // a polling cycle that provably repeats: the program waits
   const std::size_t k = static_cast<std::size_t>(n % cycle_len_);
   std::rotate(cycle_.begin(), cycle_.begin() + static_cast<std::ptrdiff_t>(k), cycle_.end());
   m_ = cycle_[0];
@@ -221,6 +223,7 @@ void Interpreter::run(std::uint32_t budget) {
 }
 
 bool Interpreter::check_event() {
+  waited_at_ = statements_;  // a registered handler: the program waits for an event
   const std::uint32_t line = prog_->code[m_.pc].line;
   std::int32_t status = 0;
   if (!read_object(k_status_index, k_status_sub, status, line)) return true;
@@ -444,10 +447,12 @@ bool Interpreter::eval(const ExprRange& r, std::int32_t& out, std::uint32_t line
     switch (x.op) {
       case X::constant: st[sp++] = x.value; continue;
       case X::variable:
+        if (x.value == m_.tim_var || x.value == m_.cyc_var) waited_at_ = statements_;  // a timer wait
         if (!read_var(static_cast<std::uint8_t>(x.value), st[sp], line)) return false;
         ++sp;
         continue;
       case X::getobj:
+        waited_at_ = statements_;  // polls the drive
         if (!read_object(x.index, x.sub, st[sp], line)) return false;
         ++sp;
         continue;

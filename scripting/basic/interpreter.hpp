@@ -81,6 +81,10 @@ class Interpreter {
   std::optional<std::uint32_t> line() const;
   std::uint64_t statements() const { return statements_; }  // run since construction
   std::uint64_t save_count() const { return save_count_; }  // SAVE statements since construction
+  // Statements since the program last waited (the master lint's script.busy_loop): a GETOBJ, a read
+  // of its timer variable, an event check while a handler is registered, or a skipped polling
+  // cycle (idle detection) is a wait; so is the start of a run.
+  std::uint64_t statements_since_wait() const { return statements_ - waited_at_; }
   std::size_t gosub_depth() const { return m_.depth; }
   bool idle() const { return cycle_len_ > 0; }  // a repeating pure cycle is known
 
@@ -149,6 +153,7 @@ class Interpreter {
   bool have_time_ = false;
   std::uint64_t statements_ = 0;
   std::uint64_t save_count_ = 0;
+  std::uint64_t waited_at_ = 0;  // statements_ at the last wait
   bool impure_ = false;
   // idle detection: step-start states of consecutive pure steps (a ring) and the cycle found in it
   std::array<Machine, k_history> history_{};

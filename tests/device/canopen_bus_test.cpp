@@ -390,5 +390,38 @@ TEST(CanopenBusFaults, RawTextAndBel) {
   EXPECT_EQ(a->take_output(), "\aV1010\r");
 }
 
+// The lint's view of the bus: every client frame before the node, every node frame (whatever the
+// transport faults do to it), every NMT state change with its direction.
+TEST(CanopenBus, ObserverSeesFramesAndNmtChanges) {
+  model::ModelPreset preset = *model::find_preset("MC349");
+  od::ObjectDictionary od{preset};
+  CanopenBus bus{od, {}, {}};
+  std::vector<std::string> seen;
+  CanopenBus::Observer o;
+  o.client_frame = [&](const can::Frame& f) { seen.push_back("client " + std::to_string(f.id)); };
+  o.node_frame = [&](const can::Frame& f) { seen.push_back("node " + std::to_string(f.id)); };
+  o.nmt = [&](canopen::NmtState from, canopen::NmtState to) {
+    seen.push_back("nmt " + std::to_string(static_cast<int>(from)) + ">" + std::to_string(static_cast<int>(to)));
+  };
+  bus.set_observer(std::move(o));
+  CanopenBus::Faults drop;
+  drop.node_frame = [](const can::Frame&) {
+    Verdict v;
+    v.action = Verdict::Action::drop;
+    return v;
+  };
+  bus.set_faults(drop);
+  bus.power_on();
+  bus.step(10ms);  // boot-up: INITIALISING → PRE-OPERATIONAL
+  auto s = bus.make_session();
+  s->receive("t00020232\r");              // NMT stop node 50
+  s->receive("t63284041600000000000\r");  // an SDO request: a STOPPED node does not answer
+  s->receive("t00020132\r");              // NMT start
+  s->receive("t63284041600000000000\r");  // answered (and dropped by the fault: still seen)
+  const std::vector<std::string> want = {"nmt 0>127", "node 1842", "client 0", "nmt 127>4",   "client 1586", "client 0",
+                                         "nmt 4>5",   "node 434",  "node 690", "client 1586", "node 1458"};
+  EXPECT_EQ(seen, want);
+}
+
 }  // namespace
 }  // namespace mcemu::device

@@ -35,6 +35,7 @@ struct EngineRig {
     cb.console = [this](std::string m) { console.push_back(std::move(m)); };
     cb.record_changed = [this](const nlohmann::json& r) { records.push_back(r); };
     cb.after_call = [this] { (void)core.drain_events(); };
+    cb.calls = [this](std::uint64_t n) { calls.push_back(n); };
     engine = std::make_unique<ScriptEngine>(io, od, core, in, std::move(cb), std::move(settings));
   }
   ~EngineRig() { engine.reset(); }
@@ -129,6 +130,7 @@ struct EngineRig {
   refgo::Interpreter in;
   std::vector<std::string> console;
   std::vector<nlohmann::json> records;
+  std::vector<std::uint64_t> calls;  // EngineCallbacks::calls: calls since the last wait, per report
   std::unique_ptr<ScriptEngine> engine;
   std::uint64_t steps = 0;
 };

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 
 #include "tests/scripting/engine_fixture.hpp"
@@ -72,6 +73,19 @@ TEST(Engine, RuntimeErrorTracebackAndLine) {  // udp-debug.md §7.4
             std::string::npos)
       << r.text();
   EXPECT_EQ(r.read(0x3500, 3), 2);
+}
+
+// The master lint's script.busy_loop (docs/lint.md §8.1): every call reports the calls since the
+// script last waited; a sleep reports 0 and starts the count again.
+TEST(Engine, CallsSinceTheLastWait) {
+  EngineRig r;
+  ASSERT_TRUE(
+      r.run("import mcdrive, time\nfor i in range(50):\n    mcdrive.ReadStatusword()\n"
+            "time.sleep_ms(10)\nfor i in range(3):\n    mcdrive.ReadStatusword()\n"));
+  ASSERT_GE(r.calls.size(), 54U);
+  const std::vector<std::uint64_t> tail(r.calls.end() - 4, r.calls.end());
+  EXPECT_EQ(tail, (std::vector<std::uint64_t>{0, 1, 2, 3}));
+  EXPECT_EQ(*std::max_element(r.calls.begin(), r.calls.end()), 50U);
 }
 
 TEST(Engine, SleepFollowsDriveTimeExactly) {  // scripting.md §13.7: one print per 1000 ms

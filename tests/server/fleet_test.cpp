@@ -170,6 +170,16 @@ TEST(Fleet, DumpTargetIsTheDriveNamedByDrive) {
   EXPECT_THROW(with_drives({"--dump-eds", "--config", config}), UsageError) << "not a config key";
 }
 
+TEST(Fleet, LintModePerDrive) {
+  const auto drives = expand_fleet(
+      with_fleet(json::parse(R"([{}, {"lint": "off"}, {"lint": {"mode": "strict"}}])"), {"--lint", "warn"}));
+  ASSERT_EQ(drives.size(), 3U);
+  EXPECT_EQ(drives[0].lint_mode, lint::Mode::warn);
+  EXPECT_EQ(drives[1].lint_mode, lint::Mode::off);   // the entry's flag wins
+  EXPECT_EQ(drives[2].lint_mode, lint::Mode::warn);  // --lint over the entry's section
+  EXPECT_EQ(drives[2].config["lint"]["mode"], "strict");
+}
+
 TEST(Fleet, FleetSectionsReplaceTheConfigSection) {
   const std::string config = ::testing::TempDir() + "fleet_config.json";
   std::ofstream(config) << R"({"objects": {"6081.00": 100}, "model": "MCFLAT"})";

@@ -91,6 +91,31 @@ TEST(CommandLine, UnsafeScriptsOnlyFromTheCommandLine) {
   }
 }
 
+// --lint off|warn|strict (docs/lint.md §3); in a config file "lint" is the flag as a string and the
+// section as an object.
+TEST(CommandLine, LintModeFromFlagAndConfig) {
+  EXPECT_FALSE(parse_command_line({}).lint_mode.has_value()) << "the config's lint.mode (default warn) decides";
+  EXPECT_EQ(parse_command_line({"--lint", "strict"}).lint_mode, lint::Mode::strict);
+  EXPECT_EQ(parse_command_line({"--lint=off"}).lint_mode, lint::Mode::off);
+  try {
+    parse_command_line({"--lint", "loud"});
+    ADD_FAILURE() << "no error";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(std::string(e.what()), "invalid value 'loud' for --lint (off, warn, strict)");
+  }
+  Settings s;
+  apply_config(s, json{{"lint", "warn"}}, {});
+  EXPECT_EQ(s.lint_mode, lint::Mode::warn);
+  Settings section;
+  apply_config(section, json{{"lint", {{"mode", "off"}}}}, {});
+  EXPECT_FALSE(section.lint_mode.has_value());  // the section is the bundle's to read
+  EXPECT_EQ(section.config["lint"]["mode"], "off");
+  Settings given;
+  given.lint_mode = lint::Mode::strict;
+  apply_config(given, json{{"lint", "off"}}, {"lint"});
+  EXPECT_EQ(given.lint_mode, lint::Mode::strict);  // the command line wins
+}
+
 struct Bad {
   std::vector<std::string> args;
   std::string message_part;

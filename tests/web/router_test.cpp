@@ -951,7 +951,8 @@ TEST(ApiToken, EmulatorEndpointsNeedItAndTheDrivesOwnStayOpen) {
            {"POST", "/api/v1/power-cycle", "{}"},
            {"POST", "/api/v1/faults", R"({"kind": "udp.drop"})"},
            {"DELETE", "/api/v1/faults", ""},
-           {"DELETE", "/api/v1/faults/f1", ""}}) {
+           {"DELETE", "/api/v1/faults/f1", ""},
+           {"DELETE", "/api/v1/lint", ""}}) {
     for (const char* auth : {"", "Bearer wrong", "Bearer 0123456789abcdef-toke", "Basic 0123456789abcdef-token",
                              "Bearer 0123456789abcdef-token2"}) {
       auto req = make_request(method, path, "application/json", body);
@@ -991,7 +992,7 @@ TEST(ApiToken, TheOpenApiDocumentMarksTheTokenRows) {
   EXPECT_FALSE(doc["paths"]["/api/v1/objects/{index}/{sub}"]["put"].contains("security"));
   std::size_t rows = 0;
   for (const auto& r : Router::route_docs()) rows += r.token ? 1 : 0;
-  EXPECT_EQ(rows, 6U) << "settings, clock advance, power cycle, faults (create, clear, remove)";
+  EXPECT_EQ(rows, 7U) << "settings, clock advance, power cycle, faults (create, clear, remove), lint reset";
 }
 
 TEST(ApiToken, BearerMatching) {

@@ -80,7 +80,11 @@ nlohmann::json Router::info_json() const {
               {"ports", ports},
               {"stateDir", i.state_dir},
               {"scripting", scripting},
-              {"clock", {{"mode", clock.mode}, {"scale", scale_json(clock.scale)}}}};
+              {"clock", {{"mode", clock.mode}, {"scale", scale_json(clock.scale)}}},
+              // docs/lint.md §5: the master lint's mode and whether its timing rules judge
+              {"lint",
+               {{"mode", lint::to_string(device_.lint().engine().config().mode)},
+                {"timing", device_.lint().engine().config().timing}}}};
 }
 
 std::string Router::info_text() const { return dump_json(info_json()); }

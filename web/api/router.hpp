@@ -139,6 +139,9 @@ class Router {
   void post_faults(const Ctx& c);
   void delete_faults(const Ctx& c);
   void delete_fault(const Ctx& c);
+  // handlers_lint.cpp (docs/lint.md §5)
+  void get_lint(const Ctx& c);
+  void delete_lint(const Ctx& c);
   void script_action(const Ctx& c, const char* name, void (ScriptControl::*action)());
   nlohmann::json io_json() const;
   nlohmann::json script_json(const ScriptView& v) const;

@@ -301,6 +301,58 @@ TEST(Dictionary, DuplicateEntriesAreABuildError) {
   EXPECT_THROW(ObjectDictionary{e}, std::logic_error);
 }
 
+// The write tap (the master lint): every write() and write_bytes() with what was asked and the
+// result — refused writes too; set() and load_values() are not taps; HelperScope marks writes.
+TEST(Dictionary, WriteTapSeesEveryWriteWithItsResult) {
+  ObjectDictionary od(test_entries());
+  std::vector<WriteNote> seen;
+  od.set_write_tap([&](const WriteNote& n) { seen.push_back(n); });
+  const std::array<std::byte, 2> le{std::byte{0x34}, std::byte{0x12}};
+  const std::array<std::byte, 4> wide{std::byte{0x10}, std::byte{0x00}, std::byte{0x00}, std::byte{0x00}};
+  od.write(0x2004, 0, Value{std::int64_t{-1}}, Origin::refgo);                    // U32 pattern
+  od.write(0x2007, 0, Value{std::int64_t{1}}, Origin::sdo);                       // read only: refused
+  od.write(0x2300, 0, Value{std::int64_t{1}}, Origin::web);                       // no object
+  od.write_bytes(0x2002, 0, le, SdoLength::indicated, Origin::sdo);               // decoded
+  od.write_bytes(0x2202, 0, wide, SdoLength::indicated, Origin::sdo);             // length tolerant
+  od.write(0x2006, 0, Value{std::string("x")}, Origin::internal);                 // a string: 0
+  od.set(od.handle(0x2000, 0), Value{std::int64_t{5}});                           // not a tap
+  od.load_values(std::vector<StoredValue>{{0x2000, 0, Value{std::int64_t{6}}}});  // not a tap
+  {
+    const ObjectDictionary::HelperScope helper(od);
+    od.write(0x2005, 0, Value{std::int64_t{-7}}, Origin::script);
+  }
+  od.write(0x2005, 0, Value{std::int64_t{8}}, Origin::script);
+  struct Expect {
+    std::uint16_t index;
+    std::int64_t value;
+    Origin origin;
+    AbortCode result;
+    bool helper;
+  };
+  const std::vector<Expect> want = {
+      {0x2004, 4294967295LL, Origin::refgo, AbortCode::none, false},
+      {0x2007, 1, Origin::sdo, AbortCode::read_only, false},
+      {0x2300, 1, Origin::web, AbortCode::no_object, false},
+      {0x2002, 0x1234, Origin::sdo, AbortCode::none, false},
+      {0x2202, 0x10, Origin::sdo, AbortCode::none, false},
+      {0x2006, 0, Origin::internal, AbortCode::none, false},
+      {0x2005, -7, Origin::script, AbortCode::none, true},
+      {0x2005, 8, Origin::script, AbortCode::none, false},
+  };
+  ASSERT_EQ(seen.size(), want.size());
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_EQ(seen[i].index, want[i].index);
+    EXPECT_EQ(seen[i].value, want[i].value);
+    EXPECT_EQ(seen[i].origin, want[i].origin);
+    EXPECT_EQ(seen[i].result, want[i].result);
+    EXPECT_EQ(seen[i].helper, want[i].helper);
+  }
+  od.set_write_tap({});  // removed: nothing more is seen
+  od.write(0x2000, 0, Value{std::int64_t{1}}, Origin::sdo);
+  EXPECT_EQ(seen.size(), want.size());
+}
+
 TEST(AbortCodes, ErrorCategory) {
   std::error_code ec = AbortCode::no_object;
   EXPECT_EQ(ec.message(), "Object does not exist in the object dictionary");

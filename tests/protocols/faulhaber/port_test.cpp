@@ -82,7 +82,7 @@ struct Owner {
 struct Client {
   explicit Client(Port& port)
       : session(port.make_session([this](const TraceEvent& e) {
-          trace.push_back({e.kind, std::string(e.hex), std::string(e.summary)});
+          trace.push_back({e.kind, std::string(e.hex), std::string(e.summary), e.command});
         })) {
     session->set_wake([this] {
       ++wakes;
@@ -111,6 +111,7 @@ struct Client {
     TraceEvent::Kind kind;
     std::string hex;
     std::string summary;
+    std::uint8_t command;
   };
   std::vector<Line> trace;
   std::unique_ptr<line::StreamSession> session;
@@ -510,6 +511,10 @@ TEST(Port, Trace) {
   EXPECT_EQ(a.trace[2].hex, "53 07 01 02 40 60 00 DB 45");
   EXPECT_EQ(a.trace[4].hex, "53 07 01 01 41 60 00 00 45");
   EXPECT_EQ(a.trace[0].hex, "00");
+  // the command byte of each frame (the master lint tells responses from notifications by it)
+  std::vector<int> commands;
+  for (const auto& l : a.trace) commands.push_back(l.command);
+  EXPECT_EQ(commands, (std::vector<int>{0, 0x02, 0x02, 0x05, 0, 0x01, 0, 0x00, 0x07, 0x01, 0x03, 0}));
 }
 
 TEST(Port, TraceOfARefusedControlwordNamesTheCode) {

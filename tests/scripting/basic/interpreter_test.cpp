@@ -403,5 +403,46 @@ TEST(BasicRun, ErrorEventsDescribeSlotLineAndReason) {
   EXPECT_EQ(describe(w[0]), "setobj line 1 6041h.00 = 3 refused 06010002");
 }
 
+// The master lint's script.busy_loop: statements since the program last waited. A loop that only
+// computes never waits; a GETOBJ, a read of its timer variable and an event check are waits; a start
+// resets the count.
+struct WaitCase {
+  const char* name;
+  const char* program;
+  std::uint64_t at_most;  // statements_since_wait() after 10 steps of 20 statements
+};
+
+class BasicWaits : public ::testing::TestWithParam<WaitCase> {};
+
+TEST_P(BasicWaits, StatementsSinceTheLastWait) {
+  Rig rig;
+  rig.interp->set_statements_per_ms(20);
+  rig.start(GetParam().program);
+  rig.step(10);
+  ASSERT_TRUE(rig.interp->running());
+  EXPECT_LE(rig.interp->statements_since_wait(), GetParam().at_most) << GetParam().name;
+}
+
+const WaitCase k_waits[] = {
+    {"busy", ":l\na = a + 1\nGOTO l\n", 200},
+    {"getobj", ":l\na = GETOBJ $6041.00\nb = b + 1\nGOTO l\n", 3},
+    {"timer", "DEF_TIM_VAR t\nSTART_TIM 1000\n:l\nb = b + 1\nIF t > 0 THEN GOTO l\n", 2},
+    {"event", "EN_EVT 1, h\n:l\nb = b + 1\nGOTO l\n:h\nRET_EVT\n", 1},
+};
+INSTANTIATE_TEST_SUITE_P(Table, BasicWaits, ::testing::ValuesIn(k_waits),
+                         [](const auto& p) { return std::string(p.param.name); });
+
+TEST(BasicRun, ABusyLoopCountsEveryStatementUntilItWaits) {
+  Rig rig;
+  rig.start(":l\na = a + 1\nIF a = 100 THEN GOTO w\nGOTO l\n:w\nb = GETOBJ $6041.00\nGOTO l\n");
+  rig.step(5);  // 100 statements, none of them a wait
+  EXPECT_EQ(rig.interp->statements_since_wait(), 100U);
+  rig.step(20);  // a = 100 at statement 298: the GETOBJ is a wait
+  EXPECT_LT(rig.interp->statements_since_wait(), 400U);
+  rig.interp->stop();
+  rig.start(":l\nGOTO l\n");
+  EXPECT_EQ(rig.interp->statements_since_wait(), 0U);
+}
+
 }  // namespace
 }  // namespace mcemu::basic

@@ -110,6 +110,16 @@ class Api:
     def clear_faults(self) -> None:
         self.request("DELETE", "/api/v1/faults")
 
+    # --- docs/lint.md §5 master lint ----------------------------------------------------------------
+    def lint(self) -> dict:
+        """``GET /api/v1/lint``: ``mode``, ``timing``, ``totals`` (info, warn, error, suppressed, failing),
+        every rule with its counts, explanation and reference, and the ``recent`` findings (oldest first)."""
+        return self.request("GET", "/api/v1/lint")
+
+    def lint_reset(self) -> dict:
+        """``DELETE /api/v1/lint``: counts and findings cleared; returns the empty report."""
+        return self.request("DELETE", "/api/v1/lint")
+
     # --- §8.10 clock -------------------------------------------------------------------------------
     def clock(self) -> dict:
         """``GET /api/v1/clock``: ``{"mode": "manual", "scale": 0, "timeMs": 1234}``."""

@@ -13,6 +13,10 @@ Fixtures:
 ``$MCEMU_BIN`` or ``mcemu`` on PATH. Every process is stopped with SIGTERM when the test ends; one
 that exited on its own or did not exit with status 0 fails the test's teardown. A failing test's
 report carries the log of each mcemu it started.
+
+Strict tests (docs/lint.md): with ``--mcemu-strict``, or for a test marked ``@pytest.mark.mcemu_strict``,
+a test whose drives reported a warn- or error-level finding of mcemu's master lint fails, with the
+findings in its report (``@pytest.mark.mcemu_strict(False)`` exempts one test from the option).
 """
 from __future__ import annotations
 
@@ -22,6 +26,7 @@ from typing import Any, Callable, Iterator
 
 import pytest
 
+from .api import ApiError
 from .process import Drive, Mcemu, McemuError, find_binary
 
 _STARTED = pytest.StashKey[list]()
@@ -33,6 +38,9 @@ def pytest_addoption(parser: pytest.Parser) -> None:
                     help="path of the mcemu binary (default: ini mcemu_bin, $MCEMU_BIN, mcemu on PATH)")
     group.addoption("--mcemu-log-level", dest="mcemu_log_level", default=None,
                     help="--log-level of every mcemu the fixtures start (default: mcemu's, info)")
+    group.addoption("--mcemu-strict", dest="mcemu_strict", action="store_true", default=False,
+                    help="fail a test whose mcemu drives reported a warn- or error-level master-lint finding "
+                         "(docs/lint.md); a test can opt out with @pytest.mark.mcemu_strict(False)")
     parser.addini("mcemu_bin", "path of the mcemu binary", default="")
 
 
@@ -40,6 +48,9 @@ def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line(
         "markers", "mcemu(*args, model=None, drives=None, fleet=None, config=None, clock=None, state_dir=None): "
         "options of the mcemu started by the mcemu_drive / mcemu_fleet fixtures")
+    config.addinivalue_line(
+        "markers", "mcemu_strict(on=True): fail the test when its mcemu drives reported a warn- or error-level "
+        "master-lint finding (as --mcemu-strict for this test; mcemu_strict(False) exempts it)")
 
 
 def _binary(config: pytest.Config) -> str | None:
@@ -62,10 +73,58 @@ def pytest_report_header(config: pytest.Config) -> str | None:
     return f"mcemu: {binary} ({version})"
 
 
+def _strict(item: pytest.Item) -> bool:
+    marker = item.get_closest_marker("mcemu_strict")
+    if marker is not None:
+        return bool(marker.args[0]) if marker.args else bool(marker.kwargs.get("on", True))
+    return bool(item.config.getoption("mcemu_strict"))
+
+
+def _lint_findings(item: pytest.Item) -> tuple[list[str], int]:
+    """The warn- and error-level findings of every drive of the still running processes of the test:
+    report lines, and how many occurrences there were (the rate limit may have kept some out of the
+    list of recent findings)."""
+    lines: list[str] = []
+    count = 0
+    processes = item.stash.get(_STARTED, [])
+    for n, process in enumerate(processes, start=1):
+        if process.returncode is not None or process.proc.poll() is not None:
+            continue
+        for drive in process.drives:
+            where = f"mcemu {n} drive {drive.number}" if len(processes) > 1 else f"drive {drive.number}"
+            try:
+                report = drive.api.lint()
+            except (ApiError, OSError) as e:
+                lines.append(f"{where}: the master lint could not be read ({e})")
+                continue
+            totals = report["totals"]
+            failing = totals["warn"] + totals["error"]
+            if failing == 0:
+                continue
+            count += failing
+            shown = [f for f in report["recent"] if f["severity"] in ("warn", "error")]
+            for f in shown:
+                lines.append(f"{where}: {f['text']} (at {f['time_ms']} ms, {f['origin']}"
+                             + (f", conn {f['conn']}" if f["conn"] else "") + ")")
+            if failing > len(shown):
+                lines.append(f"{where}: … {failing - len(shown)} more occurrences "
+                             "(over the rate limit or out of the recent list; GET /api/v1/lint counts them)")
+    return lines, count
+
+
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo) -> Iterator[None]:
     outcome = yield
     report = outcome.get_result()
+    if call.when == "call" and _strict(item) and item.stash.get(_STARTED, []):
+        lines, count = _lint_findings(item)
+        if lines:
+            text = "\n".join(lines)
+            report.sections.append(("mcemu master lint", text))
+            if report.passed and count:
+                report.outcome = "failed"
+                report.longrepr = (f"mcemu strict: the drives reported {count} warn/error-level master-lint "
+                                   f"finding{'s' if count != 1 else ''} (docs/lint.md):\n{text}")
     if not report.failed:
         return
     for n, process in enumerate(item.stash.get(_STARTED, []), start=1):

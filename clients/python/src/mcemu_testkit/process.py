@@ -109,6 +109,15 @@ class Drive:
 
         return self.process._track(open_bus(self.slcan_channel, **kwargs))
 
+    def lint(self, reset: bool = False) -> list[dict]:
+        """The master lint's recent findings of this drive (docs/lint.md §5), oldest first: each with
+        ``rule``, ``severity``, ``time_ms``, ``conn``, ``origin``, ``detail``, ``advice``, ``reference``
+        and ``text``. ``reset=True`` clears them afterwards. Counts per rule: ``drive.api.lint()``."""
+        findings = self.api.lint()["recent"]
+        if reset:
+            self.api.lint_reset()
+        return findings
+
     @property
     def eds_path(self) -> Path:
         """An EDS of this drive's model from ``mcemu --dump-eds`` (for python-canopen's
