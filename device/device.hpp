@@ -51,6 +51,8 @@ struct Setup {
   std::string mcemu_version = "0.0.0";
   // Plant and homing settings given as a value (tests); nullopt: the "plant"/"homing" sections.
   std::optional<core::PlantConfig> plant;
+  // false: the drive core stays unpowered until its owner powers it on (tests of the power-on).
+  bool power_on = true;
 };
 
 enum class LogLevel : std::uint8_t { debug, info, warning, error };

@@ -6,6 +6,12 @@
 // Usage: DeviceFixture d;                       // MC349, powered on, drive time 0
 //        DeviceFixture d("MCFLAT", {{"objects", {{"6083.00", 2000}}}});
 //        d.W(0x6040, 0, 6); d.step(10); d.R(0x6041);
+// Three depths of a step, for tests of one layer: step() is the bundle's (the drive and every part:
+// fault expiry, scope, RefGo programs, event hand-off, CANopen bus); step_drive() is the drive
+// alone (the I/O functions, which step the core; nothing is drained); core().step() is the core
+// alone. A test that steps less than the bundle drains the core's events itself.
+// A FAULHABER preset has no bundle yet (device::Device hosts the MovingCap personality only): the
+// fixture builds its dictionary and drive core alone (has_device() false) until it has one.
 #pragma once
 
 #include <cstdint>
@@ -14,10 +20,13 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "device/config_image.hpp"
 #include "device/device.hpp"
+#include "device/plant_settings.hpp"
 
 namespace mcemu::testing {
 
@@ -32,7 +41,7 @@ class MemoryStorage final : public persistence::Storage {
   // Every write completes successfully at once (a disk that is never slow).
   void set_auto_complete(bool on) { auto_complete_ = on; }
   // Completes the oldest pending write; `ok` false = the write failed (disk full).
-  void complete(bool ok) {
+  void complete(bool ok = true) {
     if (queue_.empty()) return;
     auto done = std::move(queue_.front());
     queue_.pop_front();
@@ -56,25 +65,51 @@ struct DeviceOptions {
   nlohmann::json config = nlohmann::json::object();
   std::optional<core::PlantConfig> plant;  // instead of the config's "plant"/"homing"
   bool keep_events = true;                 // collect the core events in `events`
+  bool power_on = true;                    // false: the core waits for the test's power_on()
 };
 
 class DeviceFixture {
  public:
-  explicit DeviceFixture(std::string model = "MC349", DeviceOptions options = {})
-      : device_(make(std::move(model), std::move(options))) {}
+  explicit DeviceFixture(std::string model = "MC349", DeviceOptions options = {}) { build(model, std::move(options)); }
   DeviceFixture(std::string model, nlohmann::json config) : DeviceFixture(std::move(model), options_of(config)) {}
+  DeviceFixture(const DeviceFixture&) = delete;
+  DeviceFixture& operator=(const DeviceFixture&) = delete;
 
-  device::Device& device() { return *device_; }
-  od::ObjectDictionary& od() { return device_->od(); }
-  core::DriveCore& core() { return device_->core(); }
-  iofunc::IoFunctions& io() { return device_->io(); }
-  refgo::Interpreter& refgo() { return *device_->refgo(); }
-  const model::ModelPreset& preset() const { return device_->preset(); }
+  // The bundle; a preset the bundle does not host yet (see CoreOnly) has none: only od(), core(),
+  // preset(), the steps and the reads and writes work.
+  device::Device& device() {
+    if (!device_) throw std::logic_error("DeviceFixture: no drive bundle hosts " + preset().name + " yet");
+    return *device_;
+  }
+  bool has_device() const { return device_ != nullptr; }
+  od::ObjectDictionary& od() { return device_ ? device_->od() : core_only_->od; }
+  const od::ObjectDictionary& od() const { return device_ ? device_->od() : core_only_->od; }
+  core::DriveCore& core() { return device_ ? device_->core() : core_only_->core; }
+  iofunc::IoFunctions& io() { return device().io(); }
+  refgo::Interpreter& refgo() { return *device().refgo(); }
+  const model::ModelPreset& preset() const { return device_ ? device_->preset() : core_only_->preset; }
   MemoryStorage& storage() { return storage_; }
 
   // The bundle's full 1 ms step (I/O functions, core, then every part), n times.
   void step(std::uint64_t n = 1) {
-    for (std::uint64_t i = 0; i < n; ++i) device_->step();
+    for (std::uint64_t i = 0; i < n; ++i) {
+      if (device_) {
+        device_->step();
+      } else {
+        core_only_->core.step();
+        hand_off();
+      }
+    }
+  }
+  // The drive alone, n times: the I/O functions (which step the core), no parts, no event hand-off.
+  void step_drive(std::uint64_t n = 1) {
+    for (std::uint64_t i = 0; i < n; ++i) {
+      if (device_) {
+        device_->io().step();
+      } else {
+        core_only_->core.step();
+      }
+    }
   }
   // Steps until pred() holds; returns the steps taken, or max_ms + 1.
   template <typename Pred>
@@ -88,21 +123,26 @@ class DeviceFixture {
   // A write with the given origin (SDO by default), then the event hand-off as after a request.
   od::AbortCode write(std::uint16_t index, std::uint8_t sub, od::Value value, od::Origin origin = od::Origin::sdo) {
     const auto c = od().write(index, sub, value, origin);
-    device_->handle_events();
-    device_->steps().touch();
+    if (device_) {
+      device_->handle_events();
+      device_->steps().touch();
+    } else {
+      hand_off();
+    }
     return c;
   }
   od::AbortCode W(std::uint16_t index, std::uint8_t sub, std::int64_t value, od::Origin origin = od::Origin::sdo) {
     return write(index, sub, od::Value{value}, origin);
   }
   std::int64_t R(std::uint16_t index, std::uint8_t sub = 0) const {
-    const auto r = device_->od().read_number(index, sub);
+    const auto r = od().read_number(index, sub);
     return r ? *r : 0;
   }
   std::uint16_t sw() const { return static_cast<std::uint16_t>(R(0x6041)); }
   // Removes the Store/Restore hooks of the persistence service (1010h, 1011h .01–.03), for tests
   // that install their own.
   void release_store_hooks() {
+    if (!device_) return;  // no persistence service without a bundle
     for (std::uint8_t sub = 1; sub <= 3; ++sub) {
       od().on_write(0x1010, sub, {});
       od().on_write(0x1011, sub, {});
@@ -116,16 +156,36 @@ class DeviceFixture {
   std::function<void(const std::string&)> on_note;   // the bundle's UDP emulator notes
 
  private:
+  // A preset no bundle hosts yet — the FAULHABER family (model::ModelPreset::has_io_functions()
+  // false) until device::Device has its personality (issue 24): the dictionary and the drive core
+  // alone, stepped and powered through DriveCore, built here and nowhere else.
+  struct CoreOnly {
+    CoreOnly(model::ModelPreset p, const core::PlantConfig& plant)
+        : preset(std::move(p)), od(preset), core(preset, od, plant) {}
+    model::ModelPreset preset;
+    od::ObjectDictionary od;
+    core::DriveCore core;
+  };
+
   static DeviceOptions options_of(nlohmann::json config) {
     DeviceOptions o;
     o.config = std::move(config);
     return o;
   }
-  std::unique_ptr<device::Device> make(std::string model, DeviceOptions options) {
+  void build(const std::string& model, DeviceOptions options) {
+    keep_events_ = options.keep_events;
+    auto preset = device::make_preset(model, options.config);
+    if (!preset.has_io_functions()) {
+      core_only_ = std::make_unique<CoreOnly>(
+          std::move(preset), options.plant ? *options.plant : device::plant_config_from_json(options.config));
+      if (options.power_on) core_only_->core.power_on();
+      return;
+    }
     device::Setup setup;
-    setup.model = std::move(model);
+    setup.model = model;
     setup.config = std::move(options.config);
     setup.plant = options.plant;
+    setup.power_on = options.power_on;
     setup.mcemu_version = "test";
     device::Environment env;
     env.storage = &storage_;
@@ -135,18 +195,24 @@ class DeviceFixture {
       notes.push_back(text);
       if (on_note) on_note(text);
     };
-    env.event_tap = [this, keep = options.keep_events](const core::Event& e) {
-      if (keep) events.push_back(e);
-      if (on_event) on_event(e);
-    };
+    env.event_tap = [this](const core::Event& e) { tap(e); };
     env.log = [this](device::LogLevel, const std::string& text) {
       if (on_log) on_log(text);
     };
-    return std::make_unique<device::Device>(std::move(setup), std::move(env));
+    device_ = std::make_unique<device::Device>(std::move(setup), std::move(env));
+  }
+  void tap(const core::Event& e) {
+    if (keep_events_) events.push_back(e);
+    if (on_event) on_event(e);
+  }
+  void hand_off() {
+    for (const auto& e : core_only_->core.drain_events()) tap(e);
   }
 
   MemoryStorage storage_;
+  bool keep_events_ = true;
   std::unique_ptr<device::Device> device_;
+  std::unique_ptr<CoreOnly> core_only_;
 };
 
 }  // namespace mcemu::testing
