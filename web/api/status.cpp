@@ -4,7 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <vector>
 
+#include "drive/faults.hpp"
 #include "protocols/refgo/status.hpp"
 #include "web/api/http_util.hpp"
 
@@ -13,23 +15,6 @@ namespace mcemu::web::api {
 using nlohmann::json;
 
 namespace {
-
-// drive-core.md §11.1 (names as in the manual) and web.md §5.1 (names the OCR lost: our choice).
-constexpr std::array<ErrorName, 13> k_error_names{{
-    {0x2220, "ERROR_OVER_CURRENT"},
-    {0x3211, "ERROR_OVER_VOLT"},
-    {0x3221, "ERROR_UNDER_VOLT"},
-    {0x4210, "ERROR_OVER_TEMP"},
-    {0x4220, "ERROR_DERATING"},
-    {0x5200, "ERROR_ACK"},
-    {0x7121, "ERROR_STROKE"},
-    {0x7510, "ERROR_COMMUNICATION"},
-    {0x8130, "ERROR_ABORT_CONNECTION"},
-    {0xFFF1, "ERROR_SENSOR"},
-    {0xFFF2, "ERROR_HW_SW_ENABLE"},
-    {0xFFF4, "ERROR_EXT_TORQUE"},
-    {0xFFF5, "ERROR_NEEDS_RESET"},
-}};
 
 std::int64_t num(const od::ObjectDictionary& od, std::uint16_t index, std::uint8_t sub, std::int64_t fallback = 0) {
   const auto v = od.read_number(index, sub);
@@ -44,14 +29,19 @@ std::string str(const od::ObjectDictionary& od, std::uint16_t index, std::uint8_
 
 }  // namespace
 
-std::span<const ErrorName> error_names() { return k_error_names; }
-
-std::string_view error_name(std::uint16_t code) {
-  for (const auto& e : k_error_names) {
-    if (e.code == code) return e.name;
-  }
-  return "UNKNOWN";
+// The fault catalogue's names (drive/faults.hpp), by EMCY code.
+std::span<const ErrorName> error_names() {
+  static const std::vector<ErrorName> names = [] {
+    std::vector<ErrorName> out;
+    for (const auto& f : core::fault_table()) {
+      if (f.kind != core::FaultKind::warning) out.push_back({f.code, f.name});
+    }
+    return out;
+  }();
+  return names;
 }
+
+std::string_view error_name(std::uint16_t code) { return core::fault_name(code); }
 
 std::string last_error_text(std::uint16_t code) { return h4(code) + " / " + std::string(error_name(code)); }
 
