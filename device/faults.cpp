@@ -7,6 +7,7 @@
 #include "drive/drive_core.hpp"
 #include "drive/faults.hpp"
 #include "drive/od/dictionary.hpp"
+#include "drive/od/objects.hpp"
 
 namespace mcemu::device {
 
@@ -73,10 +74,10 @@ const std::vector<FaultInjections::KindRow>& FaultInjections::kinds() {
 
 FaultInjections::FaultInjections(od::ObjectDictionary& od, core::DriveCore& core)
     : od_(od), core_(core), self_(std::make_shared<FaultInjections*>(this)) {
-  if (const auto v = od_.read_number(0x1002, 0)) last_1002_ = static_cast<std::uint32_t>(*v);
+  if (const auto v = od_.read_number(od::k_mfr_status, 0)) last_1002_ = static_cast<std::uint32_t>(*v);
   std::weak_ptr<FaultInjections*> weak = self_;
   od_.on_change([weak](const od::EntryInfo& info, const od::Value& value) {
-    if (info.index != 0x1002 || info.sub != 0) return;
+    if (info.index != od::k_mfr_status || info.sub != 0) return;
     const auto alive = weak.lock();
     if (!alive || !*alive) return;
     if (const auto* n = std::get_if<std::int64_t>(&value)) (*alive)->on_1002_changed(static_cast<std::uint32_t>(*n));

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "device/json_fields.hpp"
+#include "drive/od/objects.hpp"
 
 namespace mcemu::device {
 
@@ -19,11 +20,11 @@ void Scope::on_step(std::uint64_t time_ms, const od::ObjectDictionary& od) {
   if (time_ms % k_sample_ms != 0) return;
   if (!ring_.empty() && time_ms == time_of(ring_.size() - 1)) return;  // already sampled
   ScopeSample s;
-  s.pos = read32(od, 0x6064, 0);
-  s.vel = read32(od, 0x606C, 0);
-  s.cur = read32(od, 0x6078, 0);
-  s.target = read32(od, 0x607A, 0);
-  s.sw = static_cast<std::uint16_t>(read32(od, 0x6041, 0));
+  s.pos = read32(od, od::k_position, 0);
+  s.vel = read32(od, od::k_velocity, 0);
+  s.cur = read32(od, od::k_current, 0);
+  s.target = read32(od, od::k_target_position, 0);
+  s.sw = static_cast<std::uint16_t>(read32(od, od::k_statusword, 0));
   add(time_ms, s);
 }
 

@@ -134,11 +134,11 @@ ScriptEngine::~ScriptEngine() {
                                    {od::k_script, od::k_script_line},
                                    {od::k_script, od::k_script_length},
                                    {od::k_script, od::k_script_crc32},
-                                   {0x1F51, 1}}) {
+                                   {od::k_program_control, 1}}) {
     if (od_.find(index, sub)) od_.on_read(index, sub, {});
   }
   if (od_.find(od::k_script, od::k_script_state)) od_.on_write(od::k_script, od::k_script_state, {});
-  if (od_.find(0x1F51, 1)) od_.on_write(0x1F51, 1, {});
+  if (od_.find(od::k_program_control, 1)) od_.on_write(od::k_program_control, 1, {});
   if (run_) refgo_.attachment().close();
   for (auto& p : processes_) p->kill_and_reap();
 }
@@ -156,15 +156,15 @@ void ScriptEngine::install_hooks() {
        [this] { return od::Value{std::int64_t{std::min<std::uint32_t>(line(), 255)}}; });
   read(od::k_script, od::k_script_length, [this] { return od::Value{std::int64_t{source_.length()}}; });
   read(od::k_script, od::k_script_crc32, [this] { return od::Value{std::int64_t{source_.crc32()}}; });
-  read(0x1F51, 1, [this] { return od::Value{run_control_value(state_)}; });
+  read(od::k_program_control, 1, [this] { return od::Value{run_control_value(state_)}; });
   if (od_.find(od::k_script, od::k_script_state)) {
     od_.on_write(od::k_script, od::k_script_state, [this](od::WriteRequest& r) {
       if (auto t = run_control_trigger(std::get<std::int64_t>(r.value), state_)) trigger(*t);
       return od::AbortCode::none;
     });
   }
-  if (od_.find(0x1F51, 1)) {
-    od_.on_write(0x1F51, 1, [this](od::WriteRequest& r) {
+  if (od_.find(od::k_program_control, 1)) {
+    od_.on_write(od::k_program_control, 1, [this](od::WriteRequest& r) {
       if (auto t = program_control_trigger(std::get<std::int64_t>(r.value))) trigger(*t);
       return od::AbortCode::none;
     });
@@ -535,7 +535,7 @@ void ScriptEngine::on_step() {
     if (run->phase == Phase::waiting_compile && now >= run->compile_due_ms) {
       emit(compile_line(run->id));
       std::string platver;
-      if (auto v = od_.read(0x100A, 0); v && std::holds_alternative<std::string>(*v))
+      if (auto v = od_.read(od::k_software_version, 0); v && std::holds_alternative<std::string>(*v))
         platver = std::get<std::string>(*v);
       Values start{Value::integer(settings_.strict ? 1 : 0), Value::integer(settings_.interpolate_us ? 1 : 0),
                    Value::text(settings_.bind_address), Value::text(platver), Value::bytes(run->source)};

@@ -2,6 +2,7 @@
 // cycle, EDS, the OpenAPI document (web.md §7, §8.1–§8.5, §8.8).
 #include <algorithm>
 
+#include "drive/od/objects.hpp"
 #include "protocols/line/line_assembler.hpp"
 #include "protocols/refgo/codec.hpp"
 #include "protocols/refgo/interpreter.hpp"
@@ -200,10 +201,10 @@ json Router::io_json() const {
     const auto v = device_.od().read_number(i, s);
     return v ? *v : 0;
   };
-  return json{{"effective", number(0x60FD, 0)},
+  return json{{"effective", number(od::k_digital_inputs, 0)},
               {"physical", device_.core().physical_inputs()},
-              {"virtual", number(0x3510, 1)},
-              {"outputs", number(0x60FE, 1)}};
+              {"virtual", number(od::k_io_simulation, od::k_virtual_inputs)},
+              {"outputs", number(od::k_digital_outputs, 1)}};
 }
 
 void Router::get_io(const Ctx& c) { c.respond(json_response(200, io_json())); }
@@ -269,8 +270,9 @@ void Router::store_or_reset(const Ctx& c, bool store) {
     if (code != od::AbortCode::none) return respond(abort_response(code));
     respond(json_response(200, json{{"ok", true}}));
   };
-  const auto code = device_.od().write(
-      store ? 0x1010 : 0x1011, 1, od::Value{std::int64_t{store ? 0x65766173 : 0x64616F6C}}, od::Origin::web, finish);
+  const auto code =
+      device_.od().write(store ? od::k_store_parameters : od::k_restore_defaults, 1,
+                         od::Value{store ? od::k_save_signature : od::k_load_signature}, od::Origin::web, finish);
   if (code != od::AbortCode::pending) finish(code);
 }
 
