@@ -130,13 +130,11 @@ void Router::put_object(const Ctx& c) {
   const auto s = static_cast<std::uint8_t>(*sub);
   const od::Value value = jv.is_string() ? od::Value{jv.get<std::string>()} : od::Value{jv.get<std::int64_t>()};
   const std::string what = "PUT " + hex_index(i) + "." + hex_sub(s) + " = " + value_text(value);
-  std::weak_ptr<Router*> weak = self_;
-  auto finish = [weak, i, s, what, respond = c.respond, conn = c.req.conn, peer = c.req.peer](od::AbortCode code) {
-    const auto alive = weak.lock();
-    Router* self = alive ? *alive : nullptr;
-    if (self) self->journal_text(conn, peer, what + " " + outcome(code));
+  auto finish = [this, alive = alive_.watch(), i, s, what, respond = c.respond, conn = c.req.conn,
+                 peer = c.req.peer](od::AbortCode code) {
+    if (alive) journal_text(conn, peer, what + " " + outcome(code));
     if (code != od::AbortCode::none) return respond(abort_response(code));
-    const auto v = self ? self->device_.od().read(i, s) : od::Result<od::Value>(od::AbortCode::general);
+    const auto v = alive ? device_.od().read(i, s) : od::Result<od::Value>(od::AbortCode::general);
     respond(json_response(200, json{{"ok", true}, {"value", v ? value_json(*v) : json(nullptr)}}));
   };
   const auto code = device_.od().write(i, s, value, od::Origin::web, finish);
@@ -185,12 +183,9 @@ void Router::post_refgo(const Ctx& c) {
     journal(c.req, "refgo (over-long line, " + std::to_string(line.size()) + " bytes) -> >");
     return c.respond(json_response(200, answer(">")));
   }
-  std::weak_ptr<Router*> weak = self_;
-  auto done = [weak, answer, respond = c.respond, conn = c.req.conn, peer = c.req.peer,
+  auto done = [this, alive = alive_.watch(), answer, respond = c.respond, conn = c.req.conn, peer = c.req.peer,
                text = framed.text](const std::string& reply) {
-    if (const auto alive = weak.lock(); alive && *alive) {
-      (*alive)->journal_text(conn, peer, "refgo " + dump_json(json(text)) + " -> " + dump_json(json(reply)));
-    }
+    if (alive) journal_text(conn, peer, "refgo " + dump_json(json(text)) + " -> " + dump_json(json(reply)));
     respond(json_response(200, answer(reply)));
   };
   if (auto reply = device_.refgo()->execute(framed.text, done)) done(*reply);
@@ -261,12 +256,10 @@ void Router::put_physical_inputs(const Ctx& c) {
 
 void Router::store_or_reset(const Ctx& c, bool store) {
   if (!empty_body(c)) return;
-  std::weak_ptr<Router*> weak = self_;
   const std::string what = store ? "store" : "factory-reset";
-  auto finish = [weak, what, respond = c.respond, conn = c.req.conn, peer = c.req.peer](od::AbortCode code) {
-    if (const auto alive = weak.lock(); alive && *alive) {
-      (*alive)->journal_text(conn, peer, what + " " + outcome(code));
-    }
+  auto finish = [this, alive = alive_.watch(), what, respond = c.respond, conn = c.req.conn,
+                 peer = c.req.peer](od::AbortCode code) {
+    if (alive) journal_text(conn, peer, what + " " + outcome(code));
     if (code != od::AbortCode::none) return respond(abort_response(code));
     respond(json_response(200, json{{"ok", true}}));
   };
@@ -285,10 +278,9 @@ void Router::post_power_cycle(const Ctx& c) {
     return c.respond(error_json(503, "unavailable", "power cycle not available in this configuration"));
   }
   journal(c.req, "power-cycle");
-  std::weak_ptr<Router*> weak = self_;
-  services_.power_cycle([weak, respond = c.respond] {
+  services_.power_cycle([this, alive = alive_.watch(), respond = c.respond] {
     json j{{"ok", true}};
-    if (const auto alive = weak.lock(); alive && *alive) j["timeMs"] = (*alive)->device_.core().time_ms();
+    if (alive) j["timeMs"] = device_.core().time_ms();
     respond(json_response(200, j));
   });
 }
