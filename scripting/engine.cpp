@@ -79,20 +79,19 @@ ScriptEngine::ScriptEngine(asio::io_context& io, od::ObjectDictionary& od, core:
       trace_(trace),
       calls_{{core, od, od::Origin::script}, refgo, {}},
       settle_timer_(io),
-      alive_(std::make_shared<bool>(true)),
       probe_timer_(io) {
   calls_.refused = [this](std::string text) { trace_event(std::move(text)); };
   install_hooks();
   // The probe costs python3's start-up (tens of ms of CPU): not during the emulator's own, and not
   // at all for a process that lives less than a second; its answer is collected a little later.
   probe_timer_.expires_after(k_probe_delay);
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   probe_timer_.async_wait([this, alive](const boost::system::error_code& ec) {
-    if (ec || !alive.lock()) return;
+    if (ec || !alive) return;
     start_probe();
     probe_timer_.expires_after(k_probe_collect);
     probe_timer_.async_wait([this, alive](const boost::system::error_code& ec2) {
-      if (!ec2 && alive.lock()) resolve_probe();
+      if (!ec2 && alive) resolve_probe();
     });
   });
 }
@@ -128,7 +127,7 @@ const std::string& ScriptEngine::engine_version() const {
 }
 
 ScriptEngine::~ScriptEngine() {
-  *alive_ = false;
+  alive_.end();
   for (const auto& [index, sub] : {std::pair<std::uint16_t, std::uint8_t>{od::k_script, od::k_script_id},
                                    {od::k_script, od::k_script_state},
                                    {od::k_script, od::k_script_line},
@@ -274,9 +273,9 @@ void ScriptEngine::launch() {
   run_ = run;
   line_ = 0;
   proc->page().publish_time(now_ms(), mono_ns(), settings_.interpolate_us);
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   proc->on_exit([this, alive, run](int status) {
-    if (alive.lock()) on_exit(run, status);
+    if (alive) on_exit(run, status);
   });
   pump(run);
   arm_line_timer(run);
@@ -325,9 +324,9 @@ void ScriptEngine::freeze_poll(const std::shared_ptr<Run>& run, std::uint64_t ge
   if (run != run_ || run->freeze_gen != gen || !run->frozen) return;
   if (run->proc->page().line_seq() == seq && polls < k_freeze_polls) {
     run->freeze_timer.expires_after(k_freeze_poll);
-    std::weak_ptr<bool> alive = alive_;
+    const auto alive = alive_.watch();
     run->freeze_timer.async_wait([this, alive, run, gen, seq, polls](const boost::system::error_code& ec) {
-      if (!ec && alive.lock()) freeze_poll(run, gen, seq, polls + 1);
+      if (!ec && alive) freeze_poll(run, gen, seq, polls + 1);
     });
     return;
   }
@@ -344,9 +343,9 @@ void ScriptEngine::thaw() {
   ++run->freeze_gen;
   run->freeze_timer.cancel();
   run->proc->continue_group();
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   asio::post(io_, [this, alive, run] {
-    if (alive.lock()) pump(run);
+    if (alive) pump(run);
   });
 }
 
@@ -367,9 +366,9 @@ void ScriptEngine::pump(const std::shared_ptr<Run>& run) {
       return done();
     }
     if (!m) {
-      std::weak_ptr<bool> alive = alive_;
+      const auto alive = alive_.watch();
       run->proc->read_more([this, alive, run] {
-        if (alive.lock()) pump(run);
+        if (alive) pump(run);
       });
       return done();
     }
@@ -377,9 +376,9 @@ void ScriptEngine::pump(const std::shared_ptr<Run>& run) {
     ++handled;
   }
   // budget spent: other handlers first (network events, the clock)
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   asio::post(io_, [this, alive, run] {
-    if (alive.lock()) pump(run);
+    if (alive) pump(run);
   });
   done();
 }
@@ -456,9 +455,9 @@ void ScriptEngine::handle_call(const std::shared_ptr<Run>& run, const std::strin
     }
     text += ")";
   }
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   Later later = [this, alive, run, text](Values v) {
-    if (!alive.lock() || run != run_) return;  // the run is over: the reply is discarded
+    if (!alive || run != run_) return;  // the run is over: the reply is discarded
     if (!text.empty()) trace_event(text + " -> " + (v.empty() ? "None" : describe(v[0])));
     reply(run, v);
   };
@@ -561,9 +560,9 @@ std::optional<std::uint64_t> ScriptEngine::next_deadline_ms() const {
 
 void ScriptEngine::arm_line_timer(const std::shared_ptr<Run>& run) {
   run->line_timer.expires_after(k_line_sample);
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   run->line_timer.async_wait([this, alive, run](const boost::system::error_code& ec) {
-    if (ec || !alive.lock() || run != run_) return;
+    if (ec || !alive || run != run_) return;
     if (state_ == RunState::run && run->hello) run->proc->sample_line();
     arm_line_timer(run);
   });
@@ -590,9 +589,9 @@ void ScriptEngine::when_ready_for_step(std::function<void()> ready) {
 // Booting python3 and compiling are the engine's time, not the script's: a longer bound there.
 void ScriptEngine::arm_settle_timer() {
   settle_timer_.expires_after(run_ && run_->phase == Phase::compiling ? k_compile_budget : k_settle_budget);
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   settle_timer_.async_wait([this, alive](const boost::system::error_code& ec) {
-    if (ec || !alive.lock()) return;
+    if (ec || !alive) return;
     abandoned_ = true;  // polls without sleeping: not waited for again until it next settles
     auto w = std::move(waiters_);
     waiters_.clear();

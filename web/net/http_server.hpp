@@ -28,6 +28,7 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "base/liveness.hpp"
 #include "web/api/http_types.hpp"
 #include "web/net/ws_hub.hpp"
 
@@ -103,7 +104,7 @@ class HttpServer {
   std::size_t websockets_ = 0;
   std::uint64_t next_id_ = 1;
   bool accepting_ = false;
-  std::shared_ptr<int> alive_ = std::make_shared<int>(0);  // accept handlers check it
+  base::LivenessToken alive_;  // accept handlers check it
 };
 
 }  // namespace mcemu::web::net
