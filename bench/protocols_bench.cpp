@@ -5,16 +5,13 @@
 
 #include <string>
 
-#include "drive/drive_core.hpp"
-#include "drive/model/model_preset.hpp"
-#include "drive/od/dictionary.hpp"
 #include "protocols/canopen/node.hpp"
 #include "protocols/refgo/interpreter.hpp"
 #include "protocols/slcan/codec.hpp"
+#include "tests/support/device_fixture.hpp"
 
 namespace {
 
-using namespace std::chrono_literals;
 using mcemu::can::Frame;
 
 Frame sdo_request(std::uint8_t cs, std::uint16_t index, std::uint8_t sub) {
@@ -25,21 +22,23 @@ Frame sdo_request(std::uint8_t cs, std::uint16_t index, std::uint8_t sub) {
   return f;
 }
 
+// The CANopen node of a drive bundle (tests/support/device_fixture.hpp), booted as at the start of
+// mcemu; requests arrive at the bus time of the boot-up.
 struct Canopen {
-  Canopen() : preset(*mcemu::model::find_preset("MC349")), od(preset), node(od, {}) {
-    node.power_on(0ms);
-    node.advance(10ms);
+  Canopen() : node(drive.device().canopen()->node()) {
+    drive.device().power_up_network();
+    now = drive.device().canopen()->now();
   }
-  mcemu::model::ModelPreset preset;
-  mcemu::od::ObjectDictionary od;
-  mcemu::canopen::Node node;
+  mcemu::testing::DeviceFixture drive;
+  mcemu::canopen::Node& node;
+  std::chrono::milliseconds now{0};
 };
 
 // One expedited SDO upload of 6041h: request frame in, response frame out.
 void BM_SdoExpeditedUpload(benchmark::State& state) {
   Canopen c;
   const Frame req = sdo_request(0x40, 0x6041, 0);
-  for (auto _ : state) benchmark::DoNotOptimize(c.node.on_frame(req, 10ms));
+  for (auto _ : state) benchmark::DoNotOptimize(c.node.on_frame(req, c.now));
   state.SetItemsProcessed(state.iterations());
 }
 
@@ -51,7 +50,7 @@ void BM_SdoUploadThroughSlcanText(benchmark::State& state) {
     const auto parsed = mcemu::slcan::parse_line(line);
     const auto& cmd = std::get<mcemu::slcan::Command>(parsed);
     std::string out;
-    for (const auto& f : c.node.on_frame(cmd.frame, 10ms)) out += mcemu::slcan::encode_frame(f);
+    for (const auto& f : c.node.on_frame(cmd.frame, c.now)) out += mcemu::slcan::encode_frame(f);
     benchmark::DoNotOptimize(out);
   }
   state.SetItemsProcessed(state.iterations());
@@ -64,22 +63,18 @@ void BM_SdoSegmentedUpload1008(benchmark::State& state) {
   Frame seg0 = sdo_request(0x60, 0, 0);
   Frame seg1 = sdo_request(0x70, 0, 0);
   for (auto _ : state) {
-    benchmark::DoNotOptimize(c.node.on_frame(init, 10ms));
-    benchmark::DoNotOptimize(c.node.on_frame(seg0, 10ms));
-    benchmark::DoNotOptimize(c.node.on_frame(seg1, 10ms));
+    benchmark::DoNotOptimize(c.node.on_frame(init, c.now));
+    benchmark::DoNotOptimize(c.node.on_frame(seg0, c.now));
+    benchmark::DoNotOptimize(c.node.on_frame(seg1, c.now));
   }
   state.SetItemsProcessed(state.iterations());
 }
 
+// The RefGo interpreter of a drive bundle, one step after power on.
 struct Refgo {
-  Refgo() : preset(*mcemu::model::find_preset("MC349")), od(preset), core(preset, od), interpreter(od, core) {
-    core.power_on();
-    core.step();
-  }
-  mcemu::model::ModelPreset preset;
-  mcemu::od::ObjectDictionary od;
-  mcemu::core::DriveCore core;
-  mcemu::refgo::Interpreter interpreter;
+  Refgo() : interpreter(drive.refgo()) { drive.step(); }
+  mcemu::testing::DeviceFixture drive;
+  mcemu::refgo::Interpreter& interpreter;
 };
 
 void refgo_line(benchmark::State& state, const char* line) {

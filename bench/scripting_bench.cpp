@@ -19,11 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "drive/drive_core.hpp"
-#include "drive/model/model_preset.hpp"
-#include "iofunc/io_functions.hpp"
-#include "protocols/refgo/interpreter.hpp"
 #include "scripting/engine.hpp"
+#include "tests/support/device_fixture.hpp"
 
 namespace {
 
@@ -36,17 +33,24 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// A drive bundle of the one test fixture (tests/support/device_fixture.hpp) with a script engine,
+// wired as the server wires it: the engine after the bundle's step, the event hand-off after every
+// module call.
 struct Drive {
-  Drive() : preset(*mcemu::model::find_preset("MC349")), od(preset), core(preset, od), io_fn(od, core), in(od, core) {
-    io_fn.power_on();
+  Drive() : drive("MC349", options()) {
     mcemu::scripting::EngineCallbacks cb;
     cb.console = [this](std::string m) { console += m; };
-    engine = std::make_unique<mcemu::scripting::ScriptEngine>(io, od, core, in, std::move(cb));
+    cb.after_call = [this] { drive.device().handle_events(); };
+    engine =
+        std::make_unique<mcemu::scripting::ScriptEngine>(io, drive.od(), drive.core(), drive.refgo(), std::move(cb));
+  }
+  static mcemu::testing::DeviceOptions options() {
+    mcemu::testing::DeviceOptions o;
+    o.keep_events = false;
+    return o;
   }
   void step() {
-    io_fn.step();
-    in.on_step();
-    (void)core.drain_events();
+    drive.step();
     engine->on_step();
   }
   // Starts `source` and steps drive time to its compile; returns once "execute" is printed.
@@ -63,11 +67,7 @@ struct Drive {
     io.run_one_for(std::chrono::milliseconds(1));
   }
   asio::io_context io;
-  mcemu::model::ModelPreset preset;
-  mcemu::od::ObjectDictionary od;
-  mcemu::core::DriveCore core;
-  mcemu::iofunc::IoFunctions io_fn;
-  mcemu::refgo::Interpreter in;
+  mcemu::testing::DeviceFixture drive;
   std::unique_ptr<mcemu::scripting::ScriptEngine> engine;
   std::string console;
 };

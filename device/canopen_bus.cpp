@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "drive/od/objects.hpp"
 #include "protocols/canopen/dynamic_mapping.hpp"
 #include "protocols/slcan/codec.hpp"
 #include "protocols/slcan/session.hpp"
@@ -74,7 +75,7 @@ std::unique_ptr<line::StreamSession> CanopenBus::make_session(slcan::Session::Tr
       [weak]() -> std::uint32_t {
         auto r = weak.lock();
         if (!r || !r->bus) return 0;
-        const auto h = r->bus->od_.find(0x3404, 4);
+        const auto h = r->bus->od_.find(od::k_device_info, od::k_device_info_serial);
         return h ? static_cast<std::uint32_t>(r->bus->od_.number(*h)) : 0u;
       });
   inner->set_trace(std::move(trace));

@@ -144,7 +144,7 @@ void Device::build_core() {
   core::PowerOnState s;
   if (env_.stored_plant_position) s.raw_position_inc = env_.stored_plant_position(preset_.name);
   if (const auto& file = persistence_->on_file()) s.home_offset_inc = file->home_offset_inc;
-  power_on(s);
+  if (setup_.power_on) power_on(s);
 }
 
 void Device::power_on(const core::PowerOnState& state) {

@@ -61,6 +61,8 @@ struct Setup {
   // --clock manual: drive time stands still between requests, so the lint's timing rules are off
   // unless the "lint" section sets "timing" itself.
   bool manual_clock = false;
+  // false: the drive core stays unpowered until its owner powers it on (tests of the power-on).
+  bool power_on = true;
 };
 
 enum class LogLevel : std::uint8_t { debug, info, warning, error };

@@ -7,6 +7,7 @@
 #include "drive/drive_core.hpp"
 #include "drive/faults.hpp"
 #include "drive/od/dictionary.hpp"
+#include "drive/od/objects.hpp"
 
 namespace mcemu::device {
 
@@ -71,15 +72,11 @@ const std::vector<FaultInjections::KindRow>& FaultInjections::kinds() {
   return rows;
 }
 
-FaultInjections::FaultInjections(od::ObjectDictionary& od, core::DriveCore& core)
-    : od_(od), core_(core), self_(std::make_shared<FaultInjections*>(this)) {
-  if (const auto v = od_.read_number(0x1002, 0)) last_1002_ = static_cast<std::uint32_t>(*v);
-  std::weak_ptr<FaultInjections*> weak = self_;
-  od_.on_change([weak](const od::EntryInfo& info, const od::Value& value) {
-    if (info.index != 0x1002 || info.sub != 0) return;
-    const auto alive = weak.lock();
-    if (!alive || !*alive) return;
-    if (const auto* n = std::get_if<std::int64_t>(&value)) (*alive)->on_fault_bits(static_cast<std::uint32_t>(*n));
+FaultInjections::FaultInjections(od::ObjectDictionary& od, core::DriveCore& core) : od_(od), core_(core) {
+  if (const auto v = od_.read_number(od::k_mfr_status, 0)) last_1002_ = static_cast<std::uint32_t>(*v);
+  od_.on_change([this, alive = alive_.watch()](const od::EntryInfo& info, const od::Value& value) {
+    if (info.index != od::k_mfr_status || info.sub != 0 || !alive) return;
+    if (const auto* n = std::get_if<std::int64_t>(&value)) on_fault_bits(static_cast<std::uint32_t>(*n));
   });
   transport_.set_removed_listener([this](const std::string& id, std::string_view reason) {
     const auto it = std::find_if(active_.begin(), active_.end(), [&](const Injection& i) { return i.id == id; });
@@ -90,7 +87,7 @@ FaultInjections::FaultInjections(od::ObjectDictionary& od, core::DriveCore& core
   });
 }
 
-FaultInjections::~FaultInjections() { *self_ = nullptr; }
+FaultInjections::~FaultInjections() { alive_.end(); }
 
 void FaultInjections::report(const std::string& trace_text, const std::string& note_text) {
   if (journal_) journal_(trace_text, note_text);

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "base/liveness.hpp"
 #include "device/refusal.hpp"
 #include "device/transport_faults.hpp"
 
@@ -127,7 +128,7 @@ class FaultInjections {
   std::function<bool()> script_running_;
   std::function<void()> kill_script_;
   std::function<bool(std::string_view)> available_;
-  std::shared_ptr<FaultInjections*> self_;  // the OD change listener checks this is still alive
+  base::LivenessToken alive_;  // the OD change listener checks this is still alive
 };
 
 }  // namespace mcemu::device

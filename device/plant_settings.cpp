@@ -56,51 +56,62 @@ void optional_features(core::PlantConfig& c, const std::string& section, const j
   }
 }
 
+// The keys of the "plant" section (models.md §4, drive-core.md §10.2): most replace a field of the
+// preset's model::Plant, in its units (rotary: N·m, kg·m², rpm; linear: N, kg, m/s, mm/s); the
+// rest are the settings a preset has no value for (core::PlantConfig).
 void plant_keys(core::PlantConfig& c, const json& plant) {
   using Setter = std::function<void(const json&, const std::string&)>;
-  const auto real = [](std::optional<double>& field) -> Setter {
-    return [&field](const json& v, const std::string& k) { field = number(v, k); };
+  using model::Plant;
+  const auto real = [&c](double Plant::*field) -> Setter {
+    return [&c, field](const json& v, const std::string& k) { c.plant.set(field, number(v, k)); };
+  };
+  const auto whole = [&c](std::int64_t Plant::*field) -> Setter {
+    return [&c, field](const json& v, const std::string& k) { c.plant.set(field, integer(v, k)); };
+  };
+  const auto flag = [&c](bool Plant::*field) -> Setter {
+    return [&c, field](const json& v, const std::string& k) { c.plant.set(field, boolean(v, k)); };
   };
   const std::map<std::string, Setter> keys{
-      {"torque_peak", real(c.torque_peak)},
-      {"torque_cont", real(c.torque_cont)},
-      {"inertia_motor", real(c.inertia_motor)},
-      {"inertia_load", real(c.inertia_load)},
-      {"inertia_ctrl", real(c.inertia_ctrl)},
-      {"viscous", real(c.viscous)},
-      {"coulomb", real(c.coulomb)},
-      {"no_load_speed", real(c.no_load_speed)},
-      {"velocity_bandwidth_hz", real(c.velocity_bandwidth_hz)},
-      {"accel_feedforward", real(c.accel_feedforward)},
-      {"external_load", real(c.external_load)},
-      {"stroke_mm", real(c.stroke_mm)},
-      {"moving_threshold", real(c.moving_threshold)},
-      {"P_idle", real(c.p_idle_w)},
-      {"P_cu", real(c.p_cu_w)},
-      {"R_th", real(c.r_th_k_per_w)},
-      {"tau_th", real(c.tau_th_s)},
-      {"supply_nominal_V", real(c.supply_nominal_v)},
-      {"uv_V", real(c.supply_uv_v)},
-      {"ov_V", real(c.supply_ov_v)},
-      {"power_on_position", [&](const json& v, const std::string& k) { c.power_on_position = integer(v, k); }},
-      {"following_error_limit", [&](const json& v, const std::string& k) { c.following_error_limit = integer(v, k); }},
-      {"temperature_available", [&](const json& v, const std::string& k) { c.temperature_available = boolean(v, k); }},
-      {"hw_enable_fitted", [&](const json& v, const std::string& k) { c.hw_enable_fitted = boolean(v, k); }},
+      {"torque_peak", real(&Plant::torque_peak)},
+      {"torque_cont", real(&Plant::torque_cont)},
+      {"inertia_motor", real(&Plant::inertia_motor)},
+      {"inertia_load", real(&Plant::inertia_load)},
+      {"viscous", real(&Plant::viscous)},
+      {"coulomb", real(&Plant::coulomb)},
+      {"no_load_speed", real(&Plant::no_load_speed)},
+      {"velocity_bandwidth_hz", real(&Plant::velocity_bandwidth_hz)},
+      {"accel_feedforward", real(&Plant::accel_feedforward)},
+      {"moving_threshold", real(&Plant::moving_threshold)},
+      {"P_idle", real(&Plant::p_idle_w)},
+      {"P_cu", real(&Plant::p_cu_w)},
+      {"R_th", real(&Plant::r_th_k_per_w)},
+      {"tau_th", real(&Plant::tau_th_s)},
+      {"supply_nominal_V", real(&Plant::supply_nominal_v)},
+      {"uv_V", real(&Plant::supply_uv_v)},
+      {"ov_V", real(&Plant::supply_ov_v)},
+      {"power_on_position", whole(&Plant::power_on_position_inc)},
+      {"following_error_limit", whole(&Plant::following_error_limit_inc)},  // inc, 0 = none
+      {"temperature_available", flag(&Plant::temperature_available)},
+      {"hw_enable_fitted", flag(&Plant::hw_enable_fitted)},
       {"stops",
        [&](const json& v, const std::string& k) {
          if (v.is_null()) {
-           c.stops = std::optional<core::StopRange>{};
+           c.plant.set(&Plant::stops_inc, std::optional<core::StopRange>{});
            return;
          }
          if (!v.is_array() || v.size() != 2) bad(k, "[min_inc, max_inc] or null");
-         c.stops = std::optional<core::StopRange>{core::StopRange{integer(v[0], k), integer(v[1], k)}};
+         c.plant.set(&Plant::stops_inc, core::StopRange{integer(v[0], k), integer(v[1], k)});
        }},
-      {"rotary_accel_unit",
+      {"rotary_accel_unit",  // [num, den] motor rev/s² per unit
        [&](const json& v, const std::string& k) {
          if (!v.is_array() || v.size() != 2 || integer(v[0], k) < 1 || integer(v[1], k) < 1) bad(k, "[num, den] ≥ 1");
-         c.rotary_accel_unit = {static_cast<std::uint64_t>(v[0].get<std::int64_t>()),
-                                static_cast<std::uint64_t>(v[1].get<std::int64_t>())};
+         c.plant.set(&Plant::rotary_accel_unit_num, v[0].get<std::int64_t>());
+         c.plant.set(&Plant::rotary_accel_unit_den, v[1].get<std::int64_t>());
        }},
+      // not in a preset
+      {"inertia_ctrl", [&](const json& v, const std::string& k) { c.inertia_ctrl = number(v, k); }},
+      {"external_load", [&](const json& v, const std::string& k) { c.external_load = number(v, k); }},
+      {"stroke_mm", [&](const json& v, const std::string& k) { c.stroke_mm = number(v, k); }},
       {"position_switches",
        [&](const json& v, const std::string& k) {
          if (!v.is_array()) bad(k, "a list of {\"input\", \"from_inc\", \"to_inc\"}");

@@ -1,5 +1,6 @@
-// Maps the "plant" and "homing" sections of --config to the drive core's PlantConfig
-// (drive/plant_config.hpp lists the keys; models.md §4, drive-core.md §9.4, §10.2).
+// Maps the "plant" and "homing" sections of --config to the drive core's PlantConfig (models.md §4,
+// drive-core.md §9.4, §10.2): the one place that knows their keys (the table in plant_settings.cpp;
+// "noise" {enabled, inc, seed} and "regen" {enabled, capacitance_F} are objects of their own).
 // Throws ConfigError with one line naming the key for an unknown key or a value of the wrong type.
 #pragma once
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "device/json_fields.hpp"
+#include "drive/od/objects.hpp"
 
 namespace mcemu::device {
 
@@ -17,11 +18,11 @@ std::int32_t read32(const od::ObjectDictionary& od, std::uint16_t index, std::ui
 
 ScopeSample Scope::sample_of(const od::ObjectDictionary& od) {
   ScopeSample s;
-  s.pos = read32(od, 0x6064, 0);
-  s.vel = read32(od, 0x606C, 0);
-  s.cur = read32(od, 0x6078, 0);
-  s.target = read32(od, 0x607A, 0);
-  s.sw = static_cast<std::uint16_t>(read32(od, 0x6041, 0));
+  s.pos = read32(od, od::k_position, 0);
+  s.vel = read32(od, od::k_velocity, 0);
+  s.cur = read32(od, od::k_current, 0);
+  s.target = read32(od, od::k_target_position, 0);
+  s.sw = static_cast<std::uint16_t>(read32(od, od::k_statusword, 0));
   return s;
 }
 

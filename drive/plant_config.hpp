@@ -1,21 +1,13 @@
 // Plant and homing configuration of the drive core (drive-core.md §10.2, §9.4; models.md §4, §5).
 //
-// PlantConfig holds the overrides the server maps from the "plant" and "homing" sections of
-// --config (every field optional; absent = the model preset's value). resolve_plant() merges them
-// with the preset into PlantParams, the SI values the core simulates. JSON keys (same names in
-// the "plant" object unless noted):
-//   torque_peak, torque_cont, inertia_motor, inertia_load, inertia_ctrl, viscous, coulomb,
-//   no_load_speed (rpm | m/s), velocity_bandwidth_hz, accel_feedforward, external_load,
-//   stops ([min_inc, max_inc] or null), stroke_mm (MCFLAT/MCSHORT), power_on_position (inc),
-//   position_switches ([{"input": n, "from_inc": a, "to_inc": b}, …]), moving_threshold
-//   (rpm | mm/s), following_error_limit (inc, 0 = none), P_idle, P_cu (W), R_th (K/W), tau_th (s),
-//   temperature_available, supply_nominal_V, uv_V, ov_V, hw_enable_fitted,
-//   rotary_accel_unit ([num, den] motor rev/s² per unit, default [1, 36]),
-//   noise ({"enabled": false, "inc": 2, "seed": 1}), regen ({"enabled": false, "capacitance_F": 0.001});
-//   "homing": {"max_search_ms": 60000, "enable_method_18": false}.
+// The plant's fields are model::Plant's (drive/model/model_preset.hpp), the one list of them: a
+// preset gives every field, a PlantConfig replaces some (PlantOverrides) and adds the settings a
+// preset has no value for. resolve_plant() merges both into PlantParams, the SI values the core
+// simulates. The JSON keys of the "plant" and "homing" sections are device/plant_settings.cpp's.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -51,34 +43,31 @@ struct HomingConfig {
   bool enable_method_18 = false;
 };
 
+// Fields of a preset's model::Plant that a config replaces, applied in the order they were set:
+//   PlantOverrides o; o.set(&model::Plant::tau_th_s, 6.0).set(&model::Plant::stops_inc, StopRange{0, 9});
+class PlantOverrides {
+ public:
+  template <typename T, typename V>
+  PlantOverrides& set(T model::Plant::*field, V value) {
+    edits_.push_back([field, v = T(std::move(value))](model::Plant& p) { p.*field = v; });
+    return *this;
+  }
+  void apply(model::Plant& plant) const {
+    for (const auto& edit : edits_) edit(plant);
+  }
+  bool empty() const { return edits_.empty(); }
+
+ private:
+  std::vector<std::function<void(model::Plant&)>> edits_;
+};
+
 struct PlantConfig {
-  std::optional<double> torque_peak;
-  std::optional<double> torque_cont;
-  std::optional<double> inertia_motor;
-  std::optional<double> inertia_load;
-  std::optional<double> inertia_ctrl;
-  std::optional<double> viscous;
-  std::optional<double> coulomb;
-  std::optional<double> no_load_speed;
-  std::optional<double> velocity_bandwidth_hz;
-  std::optional<double> accel_feedforward;
-  std::optional<double> external_load;
-  std::optional<std::optional<StopRange>> stops;  // outer: given; inner nullopt: "stops": null
-  std::optional<double> stroke_mm;
-  std::optional<std::int64_t> power_on_position;
+  PlantOverrides plant;  // fields of the preset's plant replaced (they win over stroke_mm)
+  // What a preset has no value for:
+  std::optional<double> inertia_ctrl;  // the inertia the controller assumes; default motor + the preset's load
+  double external_load = 0;            // a constant load (N·m | N)
+  std::optional<double> stroke_mm;     // linear models: stops [0, stroke], power-on position in the middle
   std::vector<PositionSwitch> position_switches;
-  std::optional<double> moving_threshold;
-  std::optional<std::int64_t> following_error_limit;
-  std::optional<double> p_idle_w;
-  std::optional<double> p_cu_w;
-  std::optional<double> r_th_k_per_w;
-  std::optional<double> tau_th_s;
-  std::optional<bool> temperature_available;
-  std::optional<double> supply_nominal_v;
-  std::optional<double> supply_uv_v;
-  std::optional<double> supply_ov_v;
-  std::optional<bool> hw_enable_fitted;
-  std::optional<std::pair<std::uint64_t, std::uint64_t>> rotary_accel_unit;
   NoiseConfig noise;
   RegenConfig regen;
   HomingConfig homing;

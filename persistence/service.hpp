@@ -20,12 +20,13 @@
 
 #include "base/liveness.hpp"
 #include "drive/od/dictionary.hpp"
+#include "drive/od/objects.hpp"
 #include "persistence/state_document.hpp"
 
 namespace mcemu::persistence {
 
-inline constexpr std::int64_t k_save = 0x65766173;  // "save"
-inline constexpr std::int64_t k_load = 0x64616F6C;  // "load"
+inline constexpr std::int64_t k_save = od::k_save_signature;  // "save"
+inline constexpr std::int64_t k_load = od::k_load_signature;  // "load"
 
 // Writes the state file; completion is delivered on the event-loop thread in request order (also
 // after the Service that asked is gone: it checks).

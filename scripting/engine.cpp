@@ -102,20 +102,19 @@ ScriptEngine::ScriptEngine(asio::io_context& io, od::ObjectDictionary& od, core:
       trace_(trace),
       calls_{{core, od, od::Origin::script}, refgo, {}},
       settle_timer_(io),
-      alive_(std::make_shared<bool>(true)),
       probe_timer_(io) {
   calls_.refused = [this](std::string text) { trace_event(std::move(text)); };
   install_hooks();
   // The probe costs python3's start-up (tens of ms of CPU): not during the emulator's own, and not
   // at all for a process that lives less than a second; its answer is collected a little later.
   probe_timer_.expires_after(k_probe_delay);
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   probe_timer_.async_wait([this, alive](const boost::system::error_code& ec) {
-    if (ec || !alive.lock()) return;
+    if (ec || !alive) return;
     start_probe();
     probe_timer_.expires_after(k_probe_collect);
     probe_timer_.async_wait([this, alive](const boost::system::error_code& ec2) {
-      if (!ec2 && alive.lock()) resolve_probe();
+      if (!ec2 && alive) resolve_probe();
     });
   });
 }
@@ -198,17 +197,17 @@ bool ScriptEngine::unsafe() const {
 }
 
 ScriptEngine::~ScriptEngine() {
-  *alive_ = false;
+  alive_.end();
   for (const auto& [index, sub] : {std::pair<std::uint16_t, std::uint8_t>{od::k_script, od::k_script_id},
                                    {od::k_script, od::k_script_state},
                                    {od::k_script, od::k_script_line},
                                    {od::k_script, od::k_script_length},
                                    {od::k_script, od::k_script_crc32},
-                                   {0x1F51, 1}}) {
+                                   {od::k_program_control, 1}}) {
     if (od_.find(index, sub)) od_.on_read(index, sub, {});
   }
   if (od_.find(od::k_script, od::k_script_state)) od_.on_write(od::k_script, od::k_script_state, {});
-  if (od_.find(0x1F51, 1)) od_.on_write(0x1F51, 1, {});
+  if (od_.find(od::k_program_control, 1)) od_.on_write(od::k_program_control, 1, {});
   if (run_) refgo_.attachment().close();
   for (auto& p : processes_) p->kill_and_reap();
 }
@@ -226,15 +225,15 @@ void ScriptEngine::install_hooks() {
        [this] { return od::Value{std::int64_t{std::min<std::uint32_t>(line(), 255)}}; });
   read(od::k_script, od::k_script_length, [this] { return od::Value{std::int64_t{source_.length()}}; });
   read(od::k_script, od::k_script_crc32, [this] { return od::Value{std::int64_t{source_.crc32()}}; });
-  read(0x1F51, 1, [this] { return od::Value{run_control_value(state_)}; });
+  read(od::k_program_control, 1, [this] { return od::Value{run_control_value(state_)}; });
   if (od_.find(od::k_script, od::k_script_state)) {
     od_.on_write(od::k_script, od::k_script_state, [this](od::WriteRequest& r) {
       if (auto t = run_control_trigger(std::get<std::int64_t>(r.value), state_)) trigger(*t);
       return od::AbortCode::none;
     });
   }
-  if (od_.find(0x1F51, 1)) {
-    od_.on_write(0x1F51, 1, [this](od::WriteRequest& r) {
+  if (od_.find(od::k_program_control, 1)) {
+    od_.on_write(od::k_program_control, 1, [this](od::WriteRequest& r) {
       if (auto t = program_control_trigger(std::get<std::int64_t>(r.value))) trigger(*t);
       return od::AbortCode::none;
     });
@@ -349,9 +348,9 @@ void ScriptEngine::launch() {
   run_ = run;
   line_ = 0;
   proc->page().publish_time(now_ms(), mono_ns(), settings_.interpolate_us);
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   proc->on_exit([this, alive, run](int status) {
-    if (alive.lock()) on_exit(run, status);
+    if (alive) on_exit(run, status);
   });
   pump(run);
   arm_line_timer(run);
@@ -400,9 +399,9 @@ void ScriptEngine::freeze_poll(const std::shared_ptr<Run>& run, std::uint64_t ge
   if (run != run_ || run->freeze_gen != gen || !run->frozen) return;
   if (run->proc->page().line_seq() == seq && polls < k_freeze_polls) {
     run->freeze_timer.expires_after(k_freeze_poll);
-    std::weak_ptr<bool> alive = alive_;
+    const auto alive = alive_.watch();
     run->freeze_timer.async_wait([this, alive, run, gen, seq, polls](const boost::system::error_code& ec) {
-      if (!ec && alive.lock()) freeze_poll(run, gen, seq, polls + 1);
+      if (!ec && alive) freeze_poll(run, gen, seq, polls + 1);
     });
     return;
   }
@@ -419,9 +418,9 @@ void ScriptEngine::thaw() {
   ++run->freeze_gen;
   run->freeze_timer.cancel();
   run->proc->continue_group();
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   asio::post(io_, [this, alive, run] {
-    if (alive.lock()) pump(run);
+    if (alive) pump(run);
   });
 }
 
@@ -442,9 +441,9 @@ void ScriptEngine::pump(const std::shared_ptr<Run>& run) {
       return done();
     }
     if (!m) {
-      std::weak_ptr<bool> alive = alive_;
+      const auto alive = alive_.watch();
       run->proc->read_more([this, alive, run] {
-        if (alive.lock()) pump(run);
+        if (alive) pump(run);
       });
       return done();
     }
@@ -452,9 +451,9 @@ void ScriptEngine::pump(const std::shared_ptr<Run>& run) {
     ++handled;
   }
   // budget spent: other handlers first (network events, the clock)
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   asio::post(io_, [this, alive, run] {
-    if (alive.lock()) pump(run);
+    if (alive) pump(run);
   });
   done();
 }
@@ -536,9 +535,9 @@ void ScriptEngine::handle_call(const std::shared_ptr<Run>& run, const std::strin
     }
     text += ")";
   }
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   Later later = [this, alive, run, text](Values v) {
-    if (!alive.lock() || run != run_) return;  // the run is over: the reply is discarded
+    if (!alive || run != run_) return;  // the run is over: the reply is discarded
     if (!text.empty()) trace_event(text + " -> " + (v.empty() ? "None" : describe(v[0])));
     reply(run, v);
   };
@@ -563,21 +562,21 @@ void ScriptEngine::handle_net(const std::shared_ptr<Run>& run, const std::string
     return answer_net(run, *request, request->host);
   }
   if (!resolver_) resolver_ = std::make_unique<asio::ip::tcp::resolver>(io_);
-  std::weak_ptr<bool> alive = alive_;
-  resolver_->async_resolve(
-      request->host, "",
-      [this, alive, run, r = *request](const boost::system::error_code& ec, asio::ip::tcp::resolver::results_type res) {
-        if (!alive.lock() || run != run_) return;
-        std::string peer;  // IPv4 first, as the drive's own stack
-        if (!ec) {
-          for (const auto& e : res) {
-            if (peer.empty() || e.endpoint().address().is_v4()) peer = e.endpoint().address().to_string();
-            if (e.endpoint().address().is_v4()) break;
-          }
-        }
-        // unresolved: a client fails and retries; a UDP peer keeps its name (its sends fail)
-        answer_net(run, r, peer.empty() && r.kind == ipc::NetRequest::Kind::udp ? r.host : peer);
-      });
+  resolver_->async_resolve(request->host, "",
+                           [this, alive = alive_.watch(), run, r = *request](
+                               const boost::system::error_code& ec, asio::ip::tcp::resolver::results_type res) {
+                             if (!alive || run != run_) return;
+                             std::string peer;  // IPv4 first, as the drive's own stack
+                             if (!ec) {
+                               for (const auto& e : res) {
+                                 if (peer.empty() || e.endpoint().address().is_v4())
+                                   peer = e.endpoint().address().to_string();
+                                 if (e.endpoint().address().is_v4()) break;
+                               }
+                             }
+                             // unresolved: a client fails and retries; a UDP peer keeps its name (its sends fail)
+                             answer_net(run, r, peer.empty() && r.kind == ipc::NetRequest::Kind::udp ? r.host : peer);
+                           });
 }
 
 void ScriptEngine::answer_net(const std::shared_ptr<Run>& run, const ipc::NetRequest& request,
@@ -657,7 +656,7 @@ void ScriptEngine::on_step() {
     if (run->phase == Phase::waiting_compile && now >= run->compile_due_ms) {
       emit(compile_line(run->id));
       std::string platver;
-      if (auto v = od_.read(0x100A, 0); v && std::holds_alternative<std::string>(*v))
+      if (auto v = od_.read(od::k_software_version, 0); v && std::holds_alternative<std::string>(*v))
         platver = std::get<std::string>(*v);
       Values start{Value::integer(settings_.strict ? 1 : 0), Value::integer(settings_.interpolate_us ? 1 : 0),
                    Value::text(settings_.bind_address), Value::text(platver), Value::bytes(run->source)};
@@ -683,9 +682,9 @@ std::optional<std::uint64_t> ScriptEngine::next_deadline_ms() const {
 
 void ScriptEngine::arm_line_timer(const std::shared_ptr<Run>& run) {
   run->line_timer.expires_after(k_line_sample);
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   run->line_timer.async_wait([this, alive, run](const boost::system::error_code& ec) {
-    if (ec || !alive.lock() || run != run_) return;
+    if (ec || !alive || run != run_) return;
     if (state_ == RunState::run && run->hello) run->proc->sample_line();
     arm_line_timer(run);
   });
@@ -712,9 +711,9 @@ void ScriptEngine::when_ready_for_step(std::function<void()> ready) {
 // Booting python3 and compiling are the engine's time, not the script's: a longer bound there.
 void ScriptEngine::arm_settle_timer() {
   settle_timer_.expires_after(run_ && run_->phase == Phase::compiling ? k_compile_budget : k_settle_budget);
-  std::weak_ptr<bool> alive = alive_;
+  const auto alive = alive_.watch();
   settle_timer_.async_wait([this, alive](const boost::system::error_code& ec) {
-    if (ec || !alive.lock()) return;
+    if (ec || !alive) return;
     abandoned_ = true;  // polls without sleeping: not waited for again until it next settles
     auto w = std::move(waiters_);
     waiters_.clear();

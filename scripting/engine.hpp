@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "base/liveness.hpp"
 #include "drive/drive_core.hpp"
 #include "drive/od/dictionary.hpp"
 #include "scripting/core/calls.hpp"
@@ -209,7 +210,7 @@ class ScriptEngine {
   RunState traced_state_ = RunState::off;  // the last state change put on the trace
   std::vector<std::function<void()>> waiters_;
   boost::asio::steady_timer settle_timer_;
-  std::shared_ptr<bool> alive_;
+  base::LivenessToken alive_;  // timers, process callbacks and late replies check it
   boost::asio::steady_timer probe_timer_;
   std::unique_ptr<boost::asio::ip::tcp::resolver> resolver_;  // mcnet peers given by name
 };

@@ -28,7 +28,7 @@ ClockDriver::ClockDriver(boost::asio::io_context& io, std::function<void()> step
     : always_(std::make_unique<Always>(std::move(step))), io_(io), timer_(io), logic_(*always_, sim::ClockMode{}) {}
 
 ClockDriver::~ClockDriver() {
-  *alive_ = false;
+  alive_.end();
   stop();
 }
 
@@ -78,8 +78,8 @@ void ClockDriver::reschedule(const sim::ClockLogic::Next& next) {
     }
     if (posted_) return;
     posted_ = true;
-    boost::asio::post(io_, [this, alive = std::weak_ptr<bool>(alive_)] {
-      if (alive.expired()) return;
+    boost::asio::post(io_, [this, alive = alive_.watch()] {
+      if (!alive) return;
       posted_ = false;
       if (running_) fire();
     });
@@ -97,8 +97,8 @@ void ClockDriver::reschedule(const sim::ClockLogic::Next& next) {
   if (armed_ && *armed_ <= next.at) return;
   armed_ = next.at;
   timer_.expires_at(epoch_ + std::chrono::duration_cast<clock::duration>(next.at));
-  timer_.async_wait([this, alive = std::weak_ptr<bool>(alive_)](const boost::system::error_code& ec) {
-    if (ec || alive.expired()) return;
+  timer_.async_wait([this, alive = alive_.watch()](const boost::system::error_code& ec) {
+    if (ec || !alive) return;
     armed_.reset();
     if (running_) fire();
   });

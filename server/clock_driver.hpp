@@ -20,6 +20,7 @@
 #include <functional>
 #include <memory>
 
+#include "base/liveness.hpp"
 #include "sim/clock_logic.hpp"
 #include "sim/clock_mode.hpp"
 #include "sim/steppable.hpp"
@@ -71,7 +72,7 @@ class ClockDriver {
   bool running_ = false;
   std::uint64_t wake_ups_ = 0;
   std::chrono::steady_clock::time_point last_warning_{};
-  std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
+  base::LivenessToken alive_;  // posted steps and the timer's handler check it
 };
 
 }  // namespace mcemu::server

@@ -42,8 +42,8 @@ void DriveUnit::build_web(const asio::ip::address& address) {
     i.device_name = preset.identity.device_name;
     i.software_version = preset.identity.software_version;
     i.serial = preset.identity.serial;
-    if (device_->od().find(od::k_device_info, 4))
-      i.serial = static_cast<std::uint32_t>(device_->od().number(od::k_device_info, 4));
+    if (device_->od().find(od::k_device_info, od::k_device_info_serial))
+      i.serial = static_cast<std::uint32_t>(device_->od().number(od::k_device_info, od::k_device_info_serial));
     i.ip = device_->active_ip();
     i.mask = device_->active_mask();
     i.bind = settings_.bind;

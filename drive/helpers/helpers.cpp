@@ -2,6 +2,8 @@
 
 #include <tuple>
 
+#include "drive/od/objects.hpp"
+
 namespace mcemu::core::helpers {
 namespace {
 
@@ -202,11 +204,11 @@ void send_emcy_msg(const DriveRef& d, std::uint32_t error_number, std::uint8_t e
 }
 
 od::AbortCode store_permanent(const DriveRef& d, od::Done done) {
-  return d.od.write(0x1010, 1, od::Value{std::int64_t{0x65766173}}, d.origin, std::move(done));
+  return d.od.write(od::k_store_parameters, 1, od::Value{od::k_save_signature}, d.origin, std::move(done));
 }
 
 od::AbortCode reset_to_factory(const DriveRef& d, od::Done done) {
-  return d.od.write(0x1011, 1, od::Value{std::int64_t{0x64616F6C}}, d.origin, std::move(done));
+  return d.od.write(od::k_restore_defaults, 1, od::Value{od::k_load_signature}, d.origin, std::move(done));
 }
 
 }  // namespace mcemu::core::helpers

@@ -40,6 +40,8 @@ struct Identity {
 
 // models.md §4. Rotary: torque N·m, inertia kg·m², B N·m·s/rad, speeds rpm.
 // Linear: force N, mass kg, B N·s/m, speeds m/s (no_load_speed) and mm/s (moving_threshold).
+// The one list of plant fields: the "plant" section of --config replaces some of them
+// (core::PlantOverrides, drive/plant_config.hpp).
 struct Plant {
   double torque_peak = 0;
   double torque_cont = 0;

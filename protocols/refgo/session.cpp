@@ -12,16 +12,15 @@ namespace mcemu::refgo {
 Session::Session(Interpreter& interpreter)
     : interpreter_(interpreter),
       assembler_(k_max_line, filter_byte),
-      self_(std::make_shared<Session*>(this)),
-      late_([weak = std::weak_ptr<Session*>(self_)](const std::string& late) {
-        if (auto alive = weak.lock(); alive && *alive) (*alive)->on_late_reply(late);
+      late_([this, alive = alive_.watch()](const std::string& late) {
+        if (alive) on_late_reply(late);
       }),
       registration_(interpreter.attachment().add_connection([this](std::string_view bytes) {
         emit(std::string(bytes));
         wake();
       })) {}
 
-Session::~Session() { *self_ = nullptr; }
+Session::~Session() { alive_.end(); }
 
 void Session::receive(std::string_view bytes) {
   if (closed_) return;

@@ -23,6 +23,7 @@
 #include <string_view>
 #include <vector>
 
+#include "base/liveness.hpp"
 #include "protocols/line/line_assembler.hpp"
 #include "protocols/line/stream_session.hpp"
 #include "protocols/refgo/attachment.hpp"
@@ -67,8 +68,8 @@ class Session final : public line::StreamSession {
   ReplySink sink_;
   bool waiting_ = false;
   bool closed_ = false;
-  std::shared_ptr<Session*> self_;         // late replies check this is still alive
-  std::function<void(std::string)> late_;  // the late-reply function every executed line gets (checks self_)
+  base::LivenessToken alive_;              // late replies check this is still alive
+  std::function<void(std::string)> late_;  // the late-reply function every executed line gets (checks alive_)
   std::vector<line::Line> lines_;          // receive()'s scratch: the complete lines of one chunk
   std::unique_ptr<Attachment::Registration> registration_;
 };

@@ -1,5 +1,7 @@
 #include "protocols/udp_debug/messages.hpp"
 
+#include "drive/faults.hpp"
+
 namespace mcemu::udp_debug {
 
 std::vector<std::string> upload_messages(std::string_view script_id) {
@@ -21,27 +23,11 @@ std::vector<std::string> startup_block(std::string_view ip, std::string_view scr
 std::string note(std::string_view text) { return "mcemu: " + std::string(text) + "\r\n"; }
 
 std::string fault_text(std::uint16_t code) {
-  const char* name = "UNKNOWN";
-  switch (code) {
-    case 0x2220: name = "ERROR_OVER_CURRENT"; break;
-    case 0x3211: name = "ERROR_OVER_VOLT"; break;
-    case 0x3221: name = "ERROR_UNDER_VOLT"; break;
-    case 0x4210: name = "ERROR_OVER_TEMP"; break;
-    case 0x4220: name = "ERROR_DERATING"; break;
-    case 0x5200: name = "ERROR_ACK"; break;
-    case 0x7121: name = "ERROR_STROKE"; break;
-    case 0x7510: name = "ERROR_COMMUNICATION"; break;
-    case 0x8130: name = "ERROR_ABORT_CONNECTION"; break;
-    case 0xFFF1: name = "ERROR_SENSOR"; break;
-    case 0xFFF2: name = "ERROR_HW_SW_ENABLE"; break;
-    case 0xFFF4: name = "ERROR_EXT_TORQUE"; break;
-    case 0xFFF5: name = "ERROR_NEEDS_RESET"; break;
-    default: break;
-  }
+  const std::string_view name = core::fault_name(code);
   static constexpr char k_hex[] = "0123456789ABCDEF";
   std::string hex4(4, '0');
   for (int i = 0; i < 4; ++i) hex4[static_cast<std::size_t>(3 - i)] = k_hex[(code >> (4 * i)) & 0xF];
-  return "fault " + hex4 + "h " + name;
+  return "fault " + hex4 + "h " + std::string(name);
 }
 
 }  // namespace mcemu::udp_debug

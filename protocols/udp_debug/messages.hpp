@@ -18,7 +18,7 @@ std::vector<std::string> upload_messages(std::string_view script_id);
 
 // An emulator note (§4.7): "mcemu: <text>\r\n".
 std::string note(std::string_view text);
-// The text of a fault note: "fault 7121h ERROR_STROKE" (EMCY code names of web.md §4 / MAN 6.4).
+// The text of a fault note: "fault 7121h ERROR_STROKE" (the fault catalogue's names, drive/faults.hpp).
 std::string fault_text(std::uint16_t emcy_code);
 
 }  // namespace mcemu::udp_debug

@@ -1,5 +1,6 @@
-// Fuzz target: two RefGo connections (line assembler, session, interpreter) on the real drive —
-// dictionary, core, I/O functions, Store/Restore — in drive time (refgo.md §1–§10).
+// Fuzz target: two RefGo connections (line assembler, session) on the interpreter of a real drive
+// bundle (tests/support/device_fixture.hpp: dictionary, core, I/O functions, Store/Restore, the
+// RefGo programs in the bundle's step) in drive time (refgo.md §1–§10).
 //
 // Input: records [op][payload]; ops feed raw bytes to connection A or B, build a command line from
 // the command table or an OR/OW of a real entry with fuzzed numbers, step the drive, complete or
@@ -19,6 +20,7 @@
 #include "protocols/refgo/interpreter.hpp"
 #include "protocols/refgo/session.hpp"
 #include "tests/fuzz/drive_bundle.hpp"
+#include "tests/support/device_fixture.hpp"
 
 namespace {
 
@@ -105,10 +107,12 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  fuzz::DriveBundle drive;
-  refgo::Interpreter interpreter(drive.od, drive.core);
+  mcemu::testing::DeviceOptions options;
+  options.keep_events = false;
+  mcemu::testing::DeviceFixture drive("MC349", std::move(options));
+  refgo::Interpreter& interpreter = drive.refgo();
   std::vector<std::pair<std::uint16_t, std::uint8_t>> entries;
-  drive.od.for_each([&](const od::EntryInfo& e, const od::Value&) { entries.emplace_back(e.index, e.sub); });
+  drive.od().for_each([&](const od::EntryInfo& e, const od::Value&) { entries.emplace_back(e.index, e.sub); });
 
   auto a = std::make_unique<Connection>(interpreter);
   Connection b(interpreter);
@@ -150,14 +154,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
       case 4: {
         const unsigned n = r.byte() + 1u;
-        for (unsigned i = 0; i < n && steps < k_max_steps; ++i, ++steps) {
-          drive.step();
-          interpreter.on_step();
-        }
+        for (unsigned i = 0; i < n && steps < k_max_steps; ++i, ++steps) drive.step();  // the programs too
         break;
       }
-      case 5: drive.storage.complete(true); break;
-      case 6: drive.storage.complete(false); break;
+      case 5: drive.storage().complete(true); break;
+      case 6: drive.storage().complete(false); break;
       case 7: {  // FIN from A; the replies it owes still arrive, then a new connection takes its place
         a->session->peer_closed();
         a->closed = true;
@@ -170,8 +171,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     collect_all();
   }
 
-  while (drive.storage.pending() > 0) {
-    drive.storage.complete(true);
+  while (drive.storage().pending() > 0) {
+    drive.storage().complete(true);
     collect_all();
   }
   for (const Connection* c : {a.get(), &b}) {
@@ -183,6 +184,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (c->replies != c->lines) fuzz::fail("half-closed connection lost replies");
     if (!c->session->finished()) fuzz::fail("half-closed connection never finished");
   }
-  fuzz::check_dictionary(drive.od);
+  fuzz::check_dictionary(drive.od());
   return 0;
 }

@@ -1,6 +1,7 @@
 // Fuzz target: two SLCAN connections (line assembler, codec, session) on the one virtual CAN bus of
-// the server (server/canopen_bus.cpp) with the CANopen node of node-id 50 and the real drive —
-// dictionary, core, I/O functions, Store/Restore — in drive time (slcan-canopen.md §3–§10).
+// a real drive bundle (tests/support/device_fixture.hpp; device().canopen(), device/canopen_bus.cpp)
+// with the CANopen node of node-id 50 and the drive — dictionary, core, I/O functions,
+// Store/Restore, NMT reset wiring — in drive time (slcan-canopen.md §3–§10).
 //
 // Input: two bytes of session settings, then records [op][payload]. Besides raw bytes, ops build well-formed frames so
 // that the fuzzer reaches deep SDO states: any SDO command specifier with the index/sub of a real entry; complete
@@ -16,13 +17,12 @@
 #include <string>
 #include <vector>
 
-#include "protocols/canopen/comm_reload.hpp"
 #include "protocols/canopen/crc16.hpp"
-#include "protocols/canopen/node.hpp"
 #include "protocols/line/line_assembler.hpp"
 #include "protocols/slcan/codec.hpp"
 #include "protocols/slcan/session.hpp"
 #include "tests/fuzz/drive_bundle.hpp"
+#include "tests/support/device_fixture.hpp"
 
 namespace {
 
@@ -32,18 +32,18 @@ using namespace std::chrono_literals;
 constexpr std::uint64_t k_max_steps = 20000;
 constexpr std::uint16_t k_sdo_rx = 0x600 + 50;
 
+// One SLCAN connection: a session the bus made (it leaves the bus when destroyed).
 struct Client {
-  Client(slcan::SlcanConfig config, std::function<void(const can::Frame&)> to_node)
-      : session(std::move(config), std::move(to_node), [] { return 0x44444444u; }) {}
+  explicit Client(device::CanopenBus& bus) : session(bus.make_session()) {}
 
   void feed(std::string_view bytes) {
     if (closed) return;
     lines += reference.feed(bytes).size();
-    session.receive(bytes);
+    session->receive(bytes);
   }
   // Splits the output into units (BEL, or text up to CR) and checks each.
   void collect() {
-    const std::string out = session.take_output();
+    const std::string out = session->take_output();
     std::size_t i = 0;
     while (i < out.size()) {
       if (out[i] == '\a') {
@@ -76,7 +76,7 @@ struct Client {
     if (unit.find_first_of("abcdef") != std::string_view::npos) fuzz::fail("lower-case hex: " + std::string(unit));
   }
 
-  slcan::Session session;
+  std::unique_ptr<line::StreamSession> session;
   line::LineAssembler reference{slcan::Session::k_max_line, line::keep_all};
   std::uint64_t lines = 0;
   std::uint64_t replies = 0;
@@ -91,52 +91,6 @@ std::string sdo_line(const std::array<std::uint8_t, 8>& d, std::uint16_t id = k_
   return slcan::encode_frame(f);
 }
 
-struct Bus {
-  explicit Bus(fuzz::DriveBundle& d) : drive(d), factory(persistence::snapshot(d.od).objects) {
-    canopen::Node::Hooks hooks;
-    hooks.reset_node = [this] {  // the drive part of a power cycle (server/app.cpp)
-      drive.od.load_values(factory);
-      if (const auto& file = drive.persistence.on_file()) drive.od.load_values(file->objects);
-      drive.io.power_on();
-      drive.drain();
-    };
-    hooks.reset_communication = [this] {
-      const auto& file = drive.persistence.on_file();
-      canopen::reload_communication_objects(
-          drive.od, factory,
-          file ? std::span<const od::StoredValue>(file->objects) : std::span<const od::StoredValue>());
-    };
-    hooks.connection_lost = [this] {
-      drive.core.connection_lost();
-      drive.drain();
-    };
-    hooks.after_od_write = [this] { drive.drain(); };
-    node = std::make_unique<canopen::Node>(drive.od, canopen::CanopenConfig{}, std::move(hooks));
-    drive.on_event = [this](const core::Event& e) {
-      if (const auto* emcy = std::get_if<core::Emcy>(&e)) node->emit_emcy(emcy->code, emcy->reg, emcy->data);
-    };
-    drive.after_restore = [this] { node->reload(); };
-  }
-
-  void broadcast(const std::vector<can::Frame>& frames) {
-    for (const auto& f : frames) {
-      for (auto* c : clients) c->session.deliver(f, now);
-    }
-  }
-  void from_client(const can::Frame& f) { broadcast(node->on_frame(f, now)); }
-  void step() {
-    drive.step();
-    now += 1ms;
-    broadcast(node->advance(now));
-  }
-
-  fuzz::DriveBundle& drive;
-  std::vector<od::StoredValue> factory;
-  std::unique_ptr<canopen::Node> node;
-  std::vector<Client*> clients;
-  std::chrono::milliseconds now{0};
-};
-
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
@@ -145,28 +99,31 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  fuzz::DriveBundle drive;
-  Bus bus(drive);
+  fuzz::Records r(data, size);
+  // the session settings of the "slcan" config section, as --config gives them
+  static constexpr std::array<const char*, 3> k_acks = {"z", "cr", "none"};
+  const std::uint8_t ack = r.byte() % 3;
+  const int digits = (r.byte() & 1) ? 8 : 4;
+  mcemu::testing::DeviceOptions options;
+  options.keep_events = false;
+  options.config = {{"slcan", {{"frame_ack", k_acks[ack]}, {"serial_digits", digits}}}};
+  mcemu::testing::DeviceFixture drive("MC349", std::move(options));
+  device::CanopenBus& bus = *drive.device().canopen();
   static const auto entries = [&] {
     std::vector<std::pair<std::uint16_t, std::uint8_t>> v;
-    drive.od.for_each([&](const od::EntryInfo& e, const od::Value&) { v.emplace_back(e.index, e.sub); });
+    drive.od().for_each([&](const od::EntryInfo& e, const od::Value&) { v.emplace_back(e.index, e.sub); });
     return v;
   }();
 
-  fuzz::Records r(data, size);
-  slcan::SlcanConfig config;
-  config.frame_ack = static_cast<slcan::FrameAck>(r.byte() % 3);
-  config.serial_digits = (r.byte() & 1) ? 8 : 4;
-  const auto to_node = [&bus](const can::Frame& f) { bus.from_client(f); };
-  Client a(config, to_node);
-  Client b(config, to_node);
-  bus.clients = {&a, &b};
-  bus.node->power_on(bus.now);
+  Client a(bus);
+  Client b(bus);
+  drive.device().power_up_network();  // boot-up, as at the start of mcemu
   std::uint64_t steps = 0;
   const auto run = [&](unsigned n) {
-    for (unsigned i = 0; i < n && steps < k_max_steps; ++i, ++steps) bus.step();
+    for (unsigned i = 0; i < n && steps < k_max_steps; ++i, ++steps) drive.step();  // the bus too
   };
-  run(20);  // boot-up
+  // what the node has ready now (a completed Store, an EMCY after a write) goes out at once
+  const auto flush = [&] { bus.step(std::chrono::milliseconds(0)); };
   const auto index_sub = [&](std::array<std::uint8_t, 8>& d) {
     const auto& [index, sub] = entries[r.u16() % entries.size()];
     d[1] = static_cast<std::uint8_t>(index);
@@ -285,8 +242,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       case 8: run(r.byte() + 1u); break;
       case 9: run(static_cast<unsigned>(r.byte()) * 20u); break;  // past SDO timeouts and heartbeats
       case 10:
-        drive.storage.complete((op & 0x40) == 0);
-        drive.drain();
+        drive.storage().complete((op & 0x40) == 0);
+        drive.device().handle_events();
         break;
       default: {  // a command line of §3.4
         static constexpr std::array<const char*, 12> k_cmds = {"O\r", "L\r", "C\r",  "S4\r", "V\r",     "v\r",
@@ -295,25 +252,25 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         break;
       }
     }
-    bus.broadcast(bus.node->advance(bus.now));
+    flush();
     a.collect();
     b.collect();
   }
 
-  while (drive.storage.pending() > 0) {
-    drive.storage.complete(true);
-    drive.drain();
-    bus.broadcast(bus.node->advance(bus.now));
+  while (drive.storage().pending() > 0) {
+    drive.storage().complete(true);
+    drive.device().handle_events();
+    flush();
   }
   a.collect();
   b.collect();
   for (const Client* c : {&a, &b}) {
-    const bool acks = config.frame_ack != slcan::FrameAck::none;
+    const bool acks = drive.device().slcan_config().frame_ack != slcan::FrameAck::none;
     if (acks && c->replies != c->lines) {
       fuzz::fail("session answered " + std::to_string(c->replies) + " of " + std::to_string(c->lines) + " lines");
     }
     if (c->replies > c->lines) fuzz::fail("more replies than lines");
   }
-  fuzz::check_dictionary(drive.od);
+  fuzz::check_dictionary(drive.od());
   return 0;
 }

@@ -1,7 +1,8 @@
-// Test rig for iofunc (iofunc.md §7): a preset, its dictionary, a DriveCore and the IoFunctions
-// engine stepped in virtual time, with the notation of the spec's test tables as short helpers:
-// W (OD write, origin refgo), R (read), P (physical input level), step, until, enable, move_to,
-// pulse. Scenario tables are lists of rows {what, action, expectation} run in order.
+// Test rig for iofunc (iofunc.md §7): a drive bundle built by the one fixture
+// (tests/support/device_fixture.hpp), of which the rig steps the drive alone — the IoFunctions engine,
+// which steps the DriveCore — in virtual time, with the notation of the spec's test tables as short
+// helpers: W (OD write, origin refgo), R (read), P (physical input level), step, until, enable,
+// move_to, pulse. Scenario tables are lists of rows {what, action, expectation} run in order.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -15,20 +16,14 @@
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
 #include "iofunc/io_functions.hpp"
+#include "tests/support/device_fixture.hpp"
 
 namespace mcemu::iofunc::test {
-
-inline model::ModelPreset preset_of(const std::string& name) {
-  auto p = model::find_preset(name);
-  if (!p) throw std::invalid_argument("no preset " + name);
-  return *p;
-}
 
 struct Rig {
   // F349 (MC349) or FFLAT (MCFLAT): factory defaults, powered on, one step → Switch On Disabled.
   explicit Rig(const std::string& model = "MC349")
-      : preset(preset_of(model)), od(preset), core(preset, od), io(od, core) {
-    io.power_on();
+      : fixture(model), preset(fixture.preset()), od(fixture.od()), core(fixture.core()), io(fixture.io()) {
     step();
   }
 
@@ -47,7 +42,7 @@ struct Rig {
   void P(int n, bool level) { ASSERT_TRUE(core.set_external_input_level(n, level)) << "IN" << n; }
   void step(std::uint64_t n = 1) {
     for (std::uint64_t i = 0; i < n; ++i) {
-      io.step();
+      fixture.step_drive();
       core.drain_events();
       auto d = io.drain_diagnostics();
       diagnostics.insert(diagnostics.end(), d.begin(), d.end());
@@ -100,10 +95,11 @@ struct Rig {
     step(10);
   }
 
-  model::ModelPreset preset;
-  od::ObjectDictionary od;
-  core::DriveCore core;
-  IoFunctions io;
+  mcemu::testing::DeviceFixture fixture;  // powered on by the bundle
+  const model::ModelPreset& preset;
+  od::ObjectDictionary& od;
+  core::DriveCore& core;
+  IoFunctions& io;
   std::vector<Diagnostic> diagnostics;
 };
 

@@ -1,5 +1,7 @@
-// A drive with a script engine for engine tests: a real io_context, dictionary, core, I/O
-// functions, RefGo interpreter and Debian's /usr/bin/python3. Drive time advances only through
+// A drive with a script engine for engine tests: a real io_context, a drive bundle built by the one
+// fixture (tests/support/device_fixture.hpp: dictionary, core, I/O functions, RefGo interpreter …)
+// and Debian's /usr/bin/python3. The engine is wired as the server wires it: after the bundle's
+// step, the event hand-off after every module call. Drive time advances only through
 // advance(), which keeps lock-step with the script like `--clock manual` (scripting.md §8.2): a
 // step waits until the script sleeps, pauses or ends (or 1 s of wall time has passed). Conditions
 // are polled with a generous wall-clock bound; nothing sleeps for a fixed time.
@@ -20,21 +22,24 @@
 #include "iofunc/io_functions.hpp"
 #include "protocols/refgo/interpreter.hpp"
 #include "scripting/engine.hpp"
+#include "tests/support/device_fixture.hpp"
 
 namespace mcemu::scripting::test {
-
-inline model::ModelPreset preset_named(const std::string& name) { return *model::find_preset(name); }
 
 struct EngineRig {
   explicit EngineRig(const std::string& model = "MC349", EngineSettings settings = {},
                      const core::PlantConfig& plant = {})
-      : preset(preset_named(model)), od(preset), core(preset, od, plant), io_fn(od, core), in(od, core) {
-    io_fn.power_on();
-    io_fn.step();
+      : fixture(model, options(plant)),
+        preset(fixture.preset()),
+        od(fixture.od()),
+        core(fixture.core()),
+        io_fn(fixture.io()),
+        in(fixture.refgo()) {
+    fixture.step();
     EngineCallbacks cb;
     cb.console = [this](std::string m) { console.push_back(std::move(m)); };
     cb.record_changed = [this](const nlohmann::json& r) { records.push_back(r); };
-    cb.after_call = [this] { (void)core.drain_events(); };
+    cb.after_call = [this] { fixture.device().handle_events(); };
     cb.calls = [this](std::uint64_t n) { calls.push_back(n); };
     engine = std::make_unique<ScriptEngine>(io, od, core, in, std::move(cb), std::move(settings));
   }
@@ -52,10 +57,7 @@ struct EngineRig {
   }
   // One drive step as the server runs it, then the engine's step.
   void step() {
-    io_fn.step();
-    in.on_step();
-    (void)core.drain_events();
-    (void)io_fn.drain_diagnostics();
+    fixture.step();
     engine->on_step();
     ++steps;
   }
@@ -122,12 +124,20 @@ struct EngineRig {
     return od.write(index, sub, od::Value{v}, o);
   }
 
+  static mcemu::testing::DeviceOptions options(const core::PlantConfig& plant) {
+    mcemu::testing::DeviceOptions o;
+    o.plant = plant;
+    o.keep_events = false;
+    return o;
+  }
+
   boost::asio::io_context io;
-  model::ModelPreset preset;
-  od::ObjectDictionary od;
-  core::DriveCore core;
-  iofunc::IoFunctions io_fn;
-  refgo::Interpreter in;
+  mcemu::testing::DeviceFixture fixture;
+  const model::ModelPreset& preset;
+  od::ObjectDictionary& od;
+  core::DriveCore& core;
+  iofunc::IoFunctions& io_fn;
+  refgo::Interpreter& in;
   std::vector<std::string> console;
   std::vector<nlohmann::json> records;
   std::vector<std::uint64_t> calls;  // EngineCallbacks::calls: calls since the last wait, per report

@@ -60,6 +60,7 @@ TEST(EngineMcdrive, GoPosAbsFromSodAndWaitForReady) {
 
 TEST(EngineMcdrive, StorePermanentReturnsWhenComplete) {
   EngineRig r;
+  r.fixture.release_store_hooks();  // this test's hook stands in for the persistence service
   od::Done pending;
   r.od.on_write(0x1010, 1, [&](od::WriteRequest& req) {
     pending = std::move(*req.done);

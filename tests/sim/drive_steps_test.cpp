@@ -9,27 +9,21 @@
 #include <string>
 #include <vector>
 
-#include "device/parts.hpp"
-#include "drive/model/model_preset.hpp"
+#include "tests/support/device_fixture.hpp"
 
 namespace mcemu::sim {
 namespace {
 
+// The drive bundle as the server builds it (tests/support/device_fixture.hpp): its DriveSteps with
+// the bundle's parts (fault expiry, scope, RefGo programs, event hand-off, CANopen bus); a test's
+// own parts run after them.
 struct Rig {
-  model::ModelPreset preset = *model::find_preset("MC349");
-  od::ObjectDictionary od{preset};
-  core::DriveCore core{preset, od};
-  iofunc::IoFunctions io{od, core};
-  device::FaultInjections faults{od, core};
-  refgo::Interpreter refgo{od, core};
-  device::FaultsPart faults_part{faults, core};
-  device::RefgoPart refgo_part{refgo, core};
-  DriveSteps steps{od, &io, core};
-  Rig() {
-    steps.add(faults_part);
-    steps.add(refgo_part);
-    io.power_on();
-  }
+  mcemu::testing::DeviceFixture fixture;
+  od::ObjectDictionary& od = fixture.od();
+  core::DriveCore& core = fixture.core();
+  device::FaultInjections& faults = fixture.device().faults();
+  refgo::Interpreter& refgo = fixture.refgo();
+  DriveSteps& steps = fixture.device().steps();
   void W(std::uint16_t i, std::uint8_t s, std::int64_t v) {
     ASSERT_EQ(od.write(i, s, od::Value{v}, od::Origin::sdo), od::AbortCode::none) << std::hex << i;
     steps.touch();

@@ -6,6 +6,12 @@
 // Usage: DeviceFixture d;                       // MC349, powered on, drive time 0
 //        DeviceFixture d("MCFLAT", {{"objects", {{"6083.00", 2000}}}});
 //        d.W(0x6040, 0, 6); d.step(10); d.R(0x6041);
+// Three depths of a step, for tests of one layer: step() is the bundle's (the drive and every part:
+// fault expiry, scope, RefGo programs, event hand-off, CANopen bus); step_drive() is the drive
+// alone (the I/O functions, which step the core; nothing is drained); core().step() is the core
+// alone. A test that steps less than the bundle drains the core's events itself.
+// A FAULHABER preset builds its own personality's bundle: io() and refgo() are MovingCap only, and
+// step_drive() steps the core itself (such a drive has no I/O functions).
 #pragma once
 
 #include <cstdint>
@@ -14,10 +20,13 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "device/config_image.hpp"
 #include "device/device.hpp"
+#include "device/plant_settings.hpp"
 
 namespace mcemu::testing {
 
@@ -32,7 +41,7 @@ class MemoryStorage final : public persistence::Storage {
   // Every write completes successfully at once (a disk that is never slow).
   void set_auto_complete(bool on) { auto_complete_ = on; }
   // Completes the oldest pending write; `ok` false = the write failed (disk full).
-  void complete(bool ok) {
+  void complete(bool ok = true) {
     if (queue_.empty()) return;
     auto done = std::move(queue_.front());
     queue_.pop_front();
@@ -56,16 +65,19 @@ struct DeviceOptions {
   nlohmann::json config = nlohmann::json::object();
   std::optional<core::PlantConfig> plant;  // instead of the config's "plant"/"homing"
   bool keep_events = true;                 // collect the core events in `events`
+  bool power_on = true;                    // false: the core waits for the test's power_on()
 };
 
 class DeviceFixture {
  public:
-  explicit DeviceFixture(std::string model = "MC349", DeviceOptions options = {})
-      : device_(make(std::move(model), std::move(options))) {}
+  explicit DeviceFixture(std::string model = "MC349", DeviceOptions options = {}) { build(model, std::move(options)); }
   DeviceFixture(std::string model, nlohmann::json config) : DeviceFixture(std::move(model), options_of(config)) {}
+  DeviceFixture(const DeviceFixture&) = delete;
+  DeviceFixture& operator=(const DeviceFixture&) = delete;
 
   device::Device& device() { return *device_; }
   od::ObjectDictionary& od() { return device_->od(); }
+  const od::ObjectDictionary& od() const { return device_->od(); }
   core::DriveCore& core() { return device_->core(); }
   iofunc::IoFunctions& io() { return *device_->io(); }
   refgo::Interpreter& refgo() { return *device_->refgo(); }
@@ -74,7 +86,19 @@ class DeviceFixture {
 
   // The bundle's full 1 ms step (I/O functions, core, then every part), n times.
   void step(std::uint64_t n = 1) {
-    for (std::uint64_t i = 0; i < n; ++i) device_->step();
+    for (std::uint64_t i = 0; i < n; ++i) {
+      device_->step();
+    }
+  }
+  // The drive alone, n times: the I/O functions (which step the core), no parts, no event hand-off.
+  void step_drive(std::uint64_t n = 1) {
+    for (std::uint64_t i = 0; i < n; ++i) {
+      if (auto* io = device_->io()) {
+        io->step();
+      } else {
+        device_->core().step();
+      }
+    }
   }
   // Steps until pred() holds; returns the steps taken, or max_ms + 1.
   template <typename Pred>
@@ -96,7 +120,7 @@ class DeviceFixture {
     return write(index, sub, od::Value{value}, origin);
   }
   std::int64_t R(std::uint16_t index, std::uint8_t sub = 0) const {
-    const auto r = device_->od().read_number(index, sub);
+    const auto r = od().read_number(index, sub);
     return r ? *r : 0;
   }
   std::uint16_t sw() const { return static_cast<std::uint16_t>(R(0x6041)); }
@@ -121,11 +145,13 @@ class DeviceFixture {
     o.config = std::move(config);
     return o;
   }
-  std::unique_ptr<device::Device> make(std::string model, DeviceOptions options) {
+  void build(const std::string& model, DeviceOptions options) {
+    keep_events_ = options.keep_events;
     device::Setup setup;
-    setup.model = std::move(model);
+    setup.model = model;
     setup.config = std::move(options.config);
     setup.plant = options.plant;
+    setup.power_on = options.power_on;
     setup.mcemu_version = "test";
     device::Environment env;
     env.storage = &storage_;
@@ -135,17 +161,19 @@ class DeviceFixture {
       notes.push_back(text);
       if (on_note) on_note(text);
     };
-    env.event_tap = [this, keep = options.keep_events](const core::Event& e) {
-      if (keep) events.push_back(e);
-      if (on_event) on_event(e);
-    };
+    env.event_tap = [this](const core::Event& e) { tap(e); };
     env.log = [this](device::LogLevel, const std::string& text) {
       if (on_log) on_log(text);
     };
-    return std::make_unique<device::Device>(std::move(setup), std::move(env));
+    device_ = std::make_unique<device::Device>(std::move(setup), std::move(env));
+  }
+  void tap(const core::Event& e) {
+    if (keep_events_) events.push_back(e);
+    if (on_event) on_event(e);
   }
 
   MemoryStorage storage_;
+  bool keep_events_ = true;
   std::unique_ptr<device::Device> device_;
 };
 

@@ -2,6 +2,7 @@
 // cycle, EDS, the OpenAPI document (web.md §7, §8.1–§8.5, §8.8).
 #include <algorithm>
 
+#include "drive/od/objects.hpp"
 #include "protocols/line/line_assembler.hpp"
 #include "protocols/refgo/codec.hpp"
 #include "protocols/refgo/interpreter.hpp"
@@ -157,13 +158,11 @@ void Router::put_object(const Ctx& c) {
       return c.respond(range_error(*info, jv.get<std::int64_t>(), *code));
     }
   }
-  std::weak_ptr<Router*> weak = self_;
-  auto finish = [weak, i, s, what, respond = c.respond, conn = c.req.conn, peer = c.req.peer](od::AbortCode code) {
-    const auto alive = weak.lock();
-    Router* self = alive ? *alive : nullptr;
-    if (self) self->journal_text(conn, peer, what + " " + outcome(code));
+  auto finish = [this, alive = alive_.watch(), i, s, what, respond = c.respond, conn = c.req.conn,
+                 peer = c.req.peer](od::AbortCode code) {
+    if (alive) journal_text(conn, peer, what + " " + outcome(code));
     if (code != od::AbortCode::none) return respond(abort_response(code));
-    const auto v = self ? self->device_.od().read(i, s) : od::Result<od::Value>(od::AbortCode::general);
+    const auto v = alive ? device_.od().read(i, s) : od::Result<od::Value>(od::AbortCode::general);
     respond(json_response(200, json{{"ok", true}, {"value", v ? value_json(*v) : json(nullptr)}}));
   };
   const auto code = device_.od().write(i, s, value, od::Origin::web, finish);
@@ -215,12 +214,9 @@ void Router::post_refgo(const Ctx& c) {
     journal(c.req, "refgo (over-long line, " + std::to_string(line.size()) + " bytes) -> >");
     return c.respond(json_response(200, answer(">")));
   }
-  std::weak_ptr<Router*> weak = self_;
-  auto done = [weak, answer, respond = c.respond, conn = c.req.conn, peer = c.req.peer,
+  auto done = [this, alive = alive_.watch(), answer, respond = c.respond, conn = c.req.conn, peer = c.req.peer,
                text = framed.text](const std::string& reply) {
-    if (const auto alive = weak.lock(); alive && *alive) {
-      (*alive)->journal_text(conn, peer, "refgo " + dump_json(json(text)) + " -> " + dump_json(json(reply)));
-    }
+    if (alive) journal_text(conn, peer, "refgo " + dump_json(json(text)) + " -> " + dump_json(json(reply)));
     respond(json_response(200, answer(reply)));
   };
   if (auto reply = device_.refgo()->execute(framed.text, done)) done(*reply);
@@ -231,10 +227,10 @@ json Router::io_json() const {
     const auto v = device_.od().read_number(i, s);
     return v ? *v : 0;
   };
-  return json{{"effective", number(0x60FD, 0)},
+  return json{{"effective", number(od::k_digital_inputs, 0)},
               {"physical", device_.core().physical_inputs()},
-              {"virtual", number(0x3510, 1)},
-              {"outputs", number(0x60FE, 1)}};
+              {"virtual", number(od::k_io_simulation, od::k_virtual_inputs)},
+              {"outputs", number(od::k_digital_outputs, 1)}};
 }
 
 void Router::get_io(const Ctx& c) { c.respond(json_response(200, io_json())); }
@@ -291,17 +287,16 @@ void Router::put_physical_inputs(const Ctx& c) {
 
 void Router::store_or_reset(const Ctx& c, bool store) {
   if (!empty_body(c)) return;
-  std::weak_ptr<Router*> weak = self_;
   const std::string what = store ? "store" : "factory-reset";
-  auto finish = [weak, what, respond = c.respond, conn = c.req.conn, peer = c.req.peer](od::AbortCode code) {
-    if (const auto alive = weak.lock(); alive && *alive) {
-      (*alive)->journal_text(conn, peer, what + " " + outcome(code));
-    }
+  auto finish = [this, alive = alive_.watch(), what, respond = c.respond, conn = c.req.conn,
+                 peer = c.req.peer](od::AbortCode code) {
+    if (alive) journal_text(conn, peer, what + " " + outcome(code));
     if (code != od::AbortCode::none) return respond(abort_response(code));
     respond(json_response(200, json{{"ok", true}}));
   };
-  const auto code = device_.od().write(
-      store ? 0x1010 : 0x1011, 1, od::Value{std::int64_t{store ? 0x65766173 : 0x64616F6C}}, od::Origin::web, finish);
+  const auto code =
+      device_.od().write(store ? od::k_store_parameters : od::k_restore_defaults, 1,
+                         od::Value{store ? od::k_save_signature : od::k_load_signature}, od::Origin::web, finish);
   if (code != od::AbortCode::pending) finish(code);
 }
 
@@ -314,10 +309,9 @@ void Router::post_power_cycle(const Ctx& c) {
     return c.respond(error_json(503, "unavailable", "power cycle not available in this configuration"));
   }
   journal(c.req, "power-cycle");
-  std::weak_ptr<Router*> weak = self_;
-  services_.power_cycle([weak, respond = c.respond] {
+  services_.power_cycle([this, alive = alive_.watch(), respond = c.respond] {
     json j{{"ok", true}};
-    if (const auto alive = weak.lock(); alive && *alive) j["timeMs"] = (*alive)->device_.core().time_ms();
+    if (alive) j["timeMs"] = device_.core().time_ms();
     respond(json_response(200, j));
   });
 }

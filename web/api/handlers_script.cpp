@@ -3,6 +3,7 @@
 // upload (§6.1) and GET ?codeAct=N (§6.2), both behind the cross-site check of §1.3.
 #include <charconv>
 
+#include "drive/od/objects.hpp"
 #include "web/api/http_util.hpp"
 #include "web/api/multipart.hpp"
 #include "web/api/origin.hpp"
@@ -141,7 +142,8 @@ void Router::put_script_autostart(const Ctx& c) {
     return c.respond(bad("expected {\"on\": true|false}"));
   }
   const bool on = (*body)["on"].get<bool>();
-  const auto code = device_.od().write(0x3500, 4, od::Value{std::int64_t{on ? 1 : 0}}, od::Origin::web);
+  const auto code =
+      device_.od().write(od::k_script, od::k_script_autostart, od::Value{std::int64_t{on ? 1 : 0}}, od::Origin::web);
   journal(c.req, std::string("script autostart ") + (on ? "on" : "off"));
   if (code != od::AbortCode::none) return c.respond(abort_response(code));
   c.respond(json_response(200, script_json(services_.script->view())));

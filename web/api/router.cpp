@@ -418,10 +418,9 @@ json Router::openapi() const {
   return openapi_document(docs, services_.info ? services_.info().version : std::string());
 }
 
-Router::Router(device::Device& device, Services services)
-    : device_(device), services_(std::move(services)), self_(std::make_shared<Router*>(this)) {}
+Router::Router(device::Device& device, Services services) : device_(device), services_(std::move(services)) {}
 
-Router::~Router() { *self_ = nullptr; }
+Router::~Router() { alive_.end(); }
 
 void Router::journal_text(std::uint64_t conn, const std::string& peer, const std::string& text) {
   if (services_.trace) services_.trace->record(trace::Channel::api, trace::Dir::event, text, conn, peer);
@@ -472,9 +471,9 @@ PageContext Router::page_context() {
 
 void Router::page(const Request& request, const Respond& answer) {
   // The template is filled when the answer is sent (a hook may answer later, after its action).
-  const Respond respond = [self = self_, answer](Response r) {
-    if (*self && r.content_type.rfind("text/html", 0) == 0 && r.body.find("{{") != std::string::npos) {
-      r.body = render_page(r.body, (*self)->page_context(), embedded_partials());
+  const Respond respond = [this, alive = alive_.watch(), answer](Response r) {
+    if (alive && r.content_type.rfind("text/html", 0) == 0 && r.body.find("{{") != std::string::npos) {
+      r.body = render_page(r.body, page_context(), embedded_partials());
     }
     answer(std::move(r));
   };

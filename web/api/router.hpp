@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "base/liveness.hpp"
 #include "device/device.hpp"
 #include "web/api/http_types.hpp"
 #include "web/api/pages.hpp"
@@ -150,7 +151,7 @@ class Router {
   device::Device& device_;
   Services services_;
   StatusSnapshots snapshots_;
-  std::shared_ptr<Router*> self_;  // late completions check this is still alive
+  base::LivenessToken alive_;  // late completions check this is still alive
 };
 
 // The bodies of the error responses the adapter produces itself (431, 413, 400).

@@ -4,7 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <vector>
 
+#include "drive/faults.hpp"
+#include "drive/od/objects.hpp"
 #include "protocols/refgo/status.hpp"
 #include "web/api/http_util.hpp"
 
@@ -13,23 +16,6 @@ namespace mcemu::web::api {
 using nlohmann::json;
 
 namespace {
-
-// drive-core.md §11.1 (names as in the manual) and web.md §5.1 (names the OCR lost: our choice).
-constexpr std::array<ErrorName, 13> k_error_names{{
-    {0x2220, "ERROR_OVER_CURRENT"},
-    {0x3211, "ERROR_OVER_VOLT"},
-    {0x3221, "ERROR_UNDER_VOLT"},
-    {0x4210, "ERROR_OVER_TEMP"},
-    {0x4220, "ERROR_DERATING"},
-    {0x5200, "ERROR_ACK"},
-    {0x7121, "ERROR_STROKE"},
-    {0x7510, "ERROR_COMMUNICATION"},
-    {0x8130, "ERROR_ABORT_CONNECTION"},
-    {0xFFF1, "ERROR_SENSOR"},
-    {0xFFF2, "ERROR_HW_SW_ENABLE"},
-    {0xFFF4, "ERROR_EXT_TORQUE"},
-    {0xFFF5, "ERROR_NEEDS_RESET"},
-}};
 
 // The EMCY codes of a FAULHABER drive (faulhaber.md §7.3; names in mcemu's words, after the bits
 // of the error word 2320h they go with).
@@ -66,14 +52,19 @@ std::string str(const od::ObjectDictionary& od, std::uint16_t index, std::uint8_
 
 }  // namespace
 
-std::span<const ErrorName> error_names() { return k_error_names; }
-
-std::string_view error_name(std::uint16_t code) {
-  for (const auto& e : k_error_names) {
-    if (e.code == code) return e.name;
-  }
-  return "UNKNOWN";
+// The fault catalogue's names (drive/faults.hpp), by EMCY code.
+std::span<const ErrorName> error_names() {
+  static const std::vector<ErrorName> names = [] {
+    std::vector<ErrorName> out;
+    for (const auto& f : core::fault_table()) {
+      if (f.kind != core::FaultKind::warning) out.push_back({f.code, f.name});
+    }
+    return out;
+  }();
+  return names;
 }
+
+std::string_view error_name(std::uint16_t code) { return core::fault_name(code); }
 
 std::string last_error_text(std::uint16_t code) { return h4(code) + " / " + std::string(error_name(code)); }
 
@@ -247,33 +238,34 @@ std::string fh_status_json(const StatusInputs& in, std::uint64_t seq) {
 std::string status_json(const StatusInputs& in, std::uint64_t seq) {
   if (in.faulhaber) return fh_status_json(in, seq);
   const auto& od = in.od;
-  const auto statusword = static_cast<std::uint16_t>(num(od, 0x6041, 0));
+  const auto statusword = static_cast<std::uint16_t>(num(od, od::k_statusword, 0));
   const int ts = refgo::simple_status(refgo::tpsr(statusword));
-  const auto error_code = static_cast<std::uint16_t>(num(od, 0x603F, 0));
-  const auto polarity = num(od, 0x607E, 0);
-  const bool autostart = num(od, 0x3500, 4) != 0;
-  std::string script_id = str(od, 0x3500, 1);
+  const auto error_code = static_cast<std::uint16_t>(num(od, od::k_error_code, 0));
+  const auto polarity = num(od, od::k_polarity, 0);
+  const bool autostart = num(od, od::k_script, od::k_script_autostart) != 0;
+  std::string script_id = str(od, od::k_script, od::k_script_id);
   if (script_id.empty()) script_id = "(empty)";
 
   FooterValues fv;
   fv.ts = ts;
   fv.error_code = error_code;
   fv.statusword = statusword;
-  fv.op_mode_display = static_cast<std::int8_t>(num(od, 0x6061, 0));
+  fv.op_mode_display = static_cast<std::int8_t>(num(od, od::k_mode_display, 0));
   fv.python_state = in.python.state;
   fv.autostart = autostart;
-  fv.pos_user = num(od, 0x6064, 0);
-  fv.pos_inc = num(od, 0x6063, 0);
-  fv.vel_user = num(od, 0x606C, 0);
-  fv.vel_rpm = motor_rpm(in.velocity_inc_s, num(od, 0x608F, 1, 65536), num(od, 0x608F, 2, 1), (polarity & 0x40) != 0);
-  if (in.temperature_available) fv.temperature_c = num(od, 0x3401, 0x0A);
-  fv.inputs = static_cast<std::uint32_t>(num(od, 0x60FD, 0));
-  fv.outputs = static_cast<std::uint32_t>(num(od, 0x60FE, 1));
+  fv.pos_user = num(od, od::k_position, 0);
+  fv.pos_inc = num(od, od::k_position_inc, 0);
+  fv.vel_user = num(od, od::k_velocity, 0);
+  fv.vel_rpm = motor_rpm(in.velocity_inc_s, num(od, od::k_encoder_resolution, 1, 65536),
+                         num(od, od::k_encoder_resolution, 2, 1), (polarity & 0x40) != 0);
+  if (in.temperature_available) fv.temperature_c = num(od, od::k_gateway, od::k_gateway_temperature);
+  fv.inputs = static_cast<std::uint32_t>(num(od, od::k_digital_inputs, 0));
+  fv.outputs = static_cast<std::uint32_t>(num(od, od::k_digital_outputs, 1));
   const Footer f = footer(fv);
 
   json last_error = nullptr;
-  if (num(od, 0x1003, 0) > 0) {
-    const auto code = static_cast<std::uint32_t>(num(od, 0x1003, 1));
+  if (num(od, od::k_error_history, 0) > 0) {
+    const auto code = static_cast<std::uint32_t>(num(od, od::k_error_history, 1));
     last_error = json{{"code", code}, {"text", last_error_text(static_cast<std::uint16_t>(code & 0xFFFF))}};
   }
 
@@ -285,21 +277,21 @@ std::string status_json(const StatusInputs& in, std::uint64_t seq) {
       {"ts", ts},
       {"tpsr", refgo::tpsr(statusword)},
       {"statusword", statusword},
-      {"controlword", num(od, 0x6040, 0)},
-      {"opMode", num(od, 0x6060, 0)},
+      {"controlword", num(od, od::k_controlword, 0)},
+      {"opMode", num(od, od::k_mode, 0)},
       {"opModeDisplay", fv.op_mode_display},
       {"errorCode", error_code},
       {"lastError", last_error},
-      {"mfrStatus", num(od, 0x1002, 0)},
+      {"mfrStatus", num(od, od::k_mfr_status, 0)},
       {"posUser", fv.pos_user},
       {"posInc", fv.pos_inc},
       {"velUser", fv.vel_user},
       {"velRpm", fv.vel_rpm},
-      {"targetPos", num(od, 0x607A, 0)},
-      {"current", num(od, 0x6078, 0)},
+      {"targetPos", num(od, od::k_target_position, 0)},
+      {"current", num(od, od::k_current, 0)},
       {"temperatureC", fv.temperature_c ? json(*fv.temperature_c) : json(nullptr)},
       {"inputs", fv.inputs},
-      {"virtualInputs", num(od, 0x3510, 1)},
+      {"virtualInputs", num(od, od::k_io_simulation, od::k_virtual_inputs)},
       {"outputs", fv.outputs},
       {"python", {{"state", in.python.state}, {"autostart", autostart}, {"id", script_id}, {"line", in.python.line}}},
       {"refgo",

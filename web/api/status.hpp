@@ -19,7 +19,8 @@
 
 namespace mcemu::web::api {
 
-// ---- §5.1: names of the error codes shown on the Info page and in `lastError`
+// ---- §5.1: names of the error codes shown on the Info page and in `lastError` (the fault
+// catalogue's, drive/faults.hpp)
 struct ErrorName {
   std::uint16_t code;
   std::string_view name;

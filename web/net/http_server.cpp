@@ -46,14 +46,14 @@ void HttpServer::stop() {
 
 void HttpServer::do_accept() {
   if (!accepting_) return;
-  acceptor_.async_accept([this, alive = std::weak_ptr<int>(alive_)](const error_code& ec, tcp::socket socket) {
-    if (alive.expired() || !accepting_ || ec == asio::error::operation_aborted) return;
+  acceptor_.async_accept([this, alive = alive_.watch()](const error_code& ec, tcp::socket socket) {
+    if (!alive || !accepting_ || ec == asio::error::operation_aborted) return;
     if (ec) {
       // Out of descriptors and the like: retry a little later instead of spinning.
       spdlog::warn("http: accept failed: {}", ec.message());
       auto retry = std::make_shared<asio::steady_timer>(acceptor_.get_executor(), std::chrono::milliseconds(100));
       retry->async_wait([this, retry, alive](const error_code&) {
-        if (!alive.expired()) do_accept();
+        if (alive) do_accept();
       });
       return;
     }

@@ -29,6 +29,7 @@
 #include <unordered_map>
 
 #include "base/connection_ids.hpp"
+#include "base/liveness.hpp"
 #include "web/api/http_types.hpp"
 #include "web/net/ws_hub.hpp"
 
@@ -112,7 +113,7 @@ class HttpServer {
   std::size_t websockets_ = 0;
   std::shared_ptr<base::ConnectionIds> ids_;  // options_.ids, or its own
   bool accepting_ = false;
-  std::shared_ptr<int> alive_ = std::make_shared<int>(0);  // accept handlers check it
+  base::LivenessToken alive_;  // accept handlers check it
 };
 
 }  // namespace mcemu::web::net

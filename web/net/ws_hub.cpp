@@ -58,8 +58,8 @@ bool WsHub::needs_period() const {
 void WsHub::arm() {
   timer_running_ = true;
   timer_.expires_at(next_tick_);
-  timer_.async_wait([this, alive = std::weak_ptr<int>(alive_)](const boost::system::error_code& ec) {
-    if (alive.expired() || ec || stopped_) return;
+  timer_.async_wait([this, alive = alive_.watch()](const boost::system::error_code& ec) {
+    if (!alive || ec || stopped_) return;
     timer_running_ = false;
     tick();
     if (!needs_period()) return;

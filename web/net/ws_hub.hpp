@@ -23,6 +23,7 @@
 #include <string_view>
 #include <vector>
 
+#include "base/liveness.hpp"
 #include "trace/trace.hpp"
 #include "web/api/ws_outbox.hpp"
 #include "web/api/ws_protocol.hpp"
@@ -108,7 +109,7 @@ class WsHub {
   bool timer_running_ = false;
   bool stopped_ = false;
   std::chrono::steady_clock::time_point next_tick_{};
-  std::shared_ptr<int> alive_ = std::make_shared<int>(0);  // handlers check it: the hub may be gone
+  base::LivenessToken alive_;  // handlers check it: the hub may be gone
 };
 
 }  // namespace mcemu::web::net

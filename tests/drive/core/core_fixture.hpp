@@ -1,5 +1,8 @@
-// Test harness for the drive core: one preset, its dictionary and a powered DriveCore, with short
-// helpers for SDO-like writes and reads. Everything runs in virtual time.
+// Test harness for the drive core: a drive bundle built by the one fixture
+// (tests/support/device_fixture.hpp), of which these tests step and drain only the core, with short
+// helpers for SDO-like writes and reads. Everything runs in virtual time. The bundle's other parts
+// (I/O functions, sessions, persistence) keep their write hooks but are never stepped; the I/O
+// functions' inputs observer is detached, so the core is seen alone.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -11,6 +14,7 @@
 #include "drive/drive_core.hpp"
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
+#include "tests/support/device_fixture.hpp"
 
 namespace mcemu::core::test {
 
@@ -21,9 +25,10 @@ inline model::ModelPreset preset_of(const std::string& name) {
 }
 
 struct Drive {
+  // power = false: the core stays unpowered until the test calls core.power_on().
   explicit Drive(const std::string& model = "MC349", const PlantConfig& config = {}, bool power = true)
-      : preset(preset_of(model)), od(preset), core(preset, od, config) {
-    if (power) core.power_on();
+      : fixture(model, options(config, power)), preset(fixture.preset()), od(fixture.od()), core(fixture.core()) {
+    core.set_inputs_observer({});
   }
 
   // An SDO-origin write; returns the abort code.
@@ -82,9 +87,21 @@ struct Drive {
     return out;
   }
 
-  model::ModelPreset preset;
-  od::ObjectDictionary od;
-  DriveCore core;
+  // Removes the persistence service's Store/Restore hooks, for tests that install their own.
+  void release_store_hooks() { fixture.release_store_hooks(); }
+
+  static mcemu::testing::DeviceOptions options(const PlantConfig& config, bool power) {
+    mcemu::testing::DeviceOptions o;
+    o.plant = config;
+    o.power_on = power;
+    o.keep_events = false;  // events are drained from the core here, into `events`
+    return o;
+  }
+
+  mcemu::testing::DeviceFixture fixture;
+  const model::ModelPreset& preset;
+  od::ObjectDictionary& od;
+  DriveCore& core;
   std::vector<Event> events;
 };
 

@@ -88,7 +88,7 @@ TEST_P(FaulhaberBlockHoming, ReferenceAtTheStopAfterTheDelay) {
   const auto& bc = GetParam();
   for (const std::int64_t delay : {200, 500}) {
     PlantConfig c;
-    c.stops = StopRange{-50000, 50000};
+    c.plant.set(&model::Plant::stops_inc, StopRange{-50000, 50000});
     Drive d("FH_MC5010", c);
     d.set(0x2324, 0x02, delay);
     d.set(0x60E0, 0, 500);  // AN165's master example homes with reduced torque limits

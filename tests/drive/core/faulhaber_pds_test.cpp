@@ -160,7 +160,7 @@ TEST(FaulhaberTorque, LimitsAreDirectionalAndActualTorqueIsPerMilleOfRated) {
   // pushing against a stop in homing −2 / −1 with a 1 s block-detection delay: the torque sits at
   // the limit of the direction until the homing takes the stop as its reference
   PlantConfig c;
-  c.stops = StopRange{-8192, 8192};
+  c.plant.set(&model::Plant::stops_inc, StopRange{-8192, 8192});
   Drive d = fh(c);
   d.set(0x60E0, 0, 600);
   d.set(0x60E1, 0, 300);

@@ -324,7 +324,7 @@ TEST(Thermal, I2tNeverAtThirtyPercent) {
 
 TEST(Thermal, OverTemperatureFromAmbient) {
   PlantConfig cfg;
-  cfg.tau_th_s = 6;
+  cfg.plant.set(&model::Plant::tau_th_s, 6);
   Drive d("MC349", cfg);
   d.core.set_ambient_temperature(150);
   EXPECT_NEAR(d.core.temperature_c(), 31, 1e-9);
@@ -357,7 +357,7 @@ TEST(Thermal, TemperatureObjectOnModelsWithSensor) {
 
 TEST(Enable, HardwareEnableInput) {
   PlantConfig cfg;
-  cfg.hw_enable_fitted = true;
+  cfg.plant.set(&model::Plant::hw_enable_fitted, true);
   Drive d("MC632", cfg);
   d.step();
   d.cw(0x06);
@@ -375,7 +375,7 @@ TEST(Enable, HardwareEnableInput) {
 
 TEST(Enable, HardwareEnableOnPowerPinModelIsAConfigError) {
   PlantConfig cfg;
-  cfg.hw_enable_fitted = true;
+  cfg.plant.set(&model::Plant::hw_enable_fitted, true);
   const auto preset = test::preset_of("MC349");
   od::ObjectDictionary od(preset);
   EXPECT_THROW(DriveCore(preset, od, cfg), std::invalid_argument);

@@ -84,7 +84,7 @@ TEST(Homing, Method18WhenEnabledByConfig) {
 
 TEST(Homing, BlockHomingNegativeAgainstConfiguredStop) {
   PlantConfig cfg;
-  cfg.stops = StopRange{-100000, 1000000000};
+  cfg.plant.set(&model::Plant::stops_inc, StopRange{-100000, 1000000000});
   Drive d("MC349", cfg);
   d.set(0x607C, 0, 250);
   d.set(0x6073, 0, 300);  // reduced torque
@@ -107,7 +107,7 @@ TEST(Homing, BlockHomingNegativeAgainstConfiguredStop) {
 
 TEST(Homing, BlockHomingPositive) {
   PlantConfig cfg;
-  cfg.stops = StopRange{-1000000000, 70000};
+  cfg.plant.set(&model::Plant::stops_inc, StopRange{-1000000000, 70000});
   Drive d("MC349", cfg);
   d.enable(6);
   start_homing(d, -18);
@@ -130,7 +130,7 @@ TEST_P(SwitchHoming, ReferenceAtTheSwitchEdge) {
   const auto c = GetParam();
   PlantConfig cfg;
   cfg.position_switches.push_back({1, c.from, c.to});
-  cfg.power_on_position = c.start;
+  cfg.plant.set(&model::Plant::power_on_position_inc, c.start);
   Drive d("MC349_AE", cfg);  // absolute: 6063h = raw at power on
   d.set(0x60B8, 0, c.method == 17 ? 0x10 : 0x01);
   d.set(0x6099, 2, 1);  // 1 rpm: 1.09 inc per step
@@ -195,7 +195,7 @@ TEST(Homing, HaltInterrupts) {
 
 TEST(Homing, BlockDuringMaskedSwitchSearchIsHomingError) {
   PlantConfig cfg;
-  cfg.stops = StopRange{-1000000000, 30000};
+  cfg.plant.set(&model::Plant::stops_inc, StopRange{-1000000000, 30000});
   Drive d("MC349", cfg);
   d.set(0x60B8, 0, 1);
   d.set(0x3401, 0x1A, 15);
@@ -208,7 +208,7 @@ TEST(Homing, BlockDuringMaskedSwitchSearchIsHomingError) {
 
 TEST(Homing, BlockDuringUnmaskedSwitchSearchIsStrokeFault) {
   PlantConfig cfg;
-  cfg.stops = StopRange{-1000000000, 30000};
+  cfg.plant.set(&model::Plant::stops_inc, StopRange{-1000000000, 30000});
   Drive d("MC349", cfg);
   d.set(0x60B8, 0, 1);
   d.enable(6);
@@ -245,7 +245,7 @@ TEST(Homing, SetHomeHereOutsideOperationAndRefusedInFault) {
 
 TEST(Homing, GoHomeHelper) {
   PlantConfig cfg;
-  cfg.stops = StopRange{-100000, 1000000000};
+  cfg.plant.set(&model::Plant::stops_inc, StopRange{-100000, 1000000000});
   Drive d("MC349", cfg);
   d.step();
   helpers::DriveRef ref{d.core, d.od, od::Origin::refgo};

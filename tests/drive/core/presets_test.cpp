@@ -92,7 +92,7 @@ TEST(Rabbit, HaltUsesTheCurrentDecelerationValue) {
 
 TEST(Rabbit, ControllerMassFollowsWeightObjects) {
   PlantConfig cfg;
-  cfg.inertia_load = 2.0;  // a payload the controller does not know about
+  cfg.plant.set(&model::Plant::inertia_load, 2.0);  // a payload the controller does not know about
   const auto run = [&](std::int64_t payload_g) {
     Drive d("MCFLAT", cfg);
     d.set(0x3301, 4, payload_g);
@@ -112,7 +112,7 @@ TEST(Rabbit, ControllerMassFollowsWeightObjects) {
 
 TEST(Plant, ThreeTimesControllerInertiaStaysDamped) {
   PlantConfig cfg;
-  cfg.inertia_load = 4e-5;
+  cfg.plant.set(&model::Plant::inertia_load, 4e-5);
   Drive d("MC349", cfg);
   d.enable(1);
   d.set(0x607A, 0, 65536);
@@ -180,7 +180,7 @@ TEST(Plant, NoiseIsSeededBoundedAndOffByDefault) {
 TEST(Plant, RegenerationCanTripOverVoltage) {
   const auto brake = [](bool regen) {
     PlantConfig cfg;
-    cfg.inertia_load = 2e-3;
+    cfg.plant.set(&model::Plant::inertia_load, 2e-3);
     cfg.inertia_ctrl = 2.02e-3;
     cfg.regen.enabled = regen;
     test::Drive d("MC349", cfg);

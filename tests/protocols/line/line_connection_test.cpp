@@ -12,7 +12,6 @@
 #include <memory>
 #include <optional>
 
-#include "persistence/service.hpp"
 #include "protocols/refgo/session.hpp"
 #include "tests/protocols/refgo/refgo_fixture.hpp"
 
@@ -124,22 +123,8 @@ class FakeStream {
   bool non_blocking_ = false;
 };
 
-// A state-file storage whose writes complete when the test says so.
-class HeldStorage final : public persistence::Storage {
- public:
-  void write_state(std::string, Completion done) override { queue.push_back(std::move(done)); }
-  void complete() {
-    auto done = std::move(queue.front());
-    queue.pop_front();
-    done(std::nullopt);
-  }
-  std::deque<Completion> queue;
-};
-
 struct Fixture {
-  explicit Fixture(LineServerOptions options = {})
-      : wire(io),
-        persistence(drive.od, drive.preset.name, "test", persistence::snapshot(drive.od), std::nullopt, storage, {}) {
+  explicit Fixture(LineServerOptions options = {}) : wire(io) {
     options.name = "refgo";
     connection = std::make_shared<LineConnection<FakeStream>>(FakeStream(wire), options, PeerInfo{"fake:1", 1},
                                                               [this](LineConnectionBase*) { closed = true; });
@@ -161,8 +146,8 @@ struct Fixture {
   asio::io_context io;
   Wire wire;
   refgo::test::Drive drive;
-  HeldStorage storage;
-  persistence::Service persistence;
+  // the bundle's state-file storage: its writes complete when the test says so
+  mcemu::testing::MemoryStorage& storage = drive.fixture.storage();
   std::shared_ptr<LineConnection<FakeStream>> connection;
   bool closed = false;
 };

@@ -275,7 +275,8 @@ TEST(Transcripts, Session2021) {
 // §14.1: block homing in the negative direction against a mechanical stop, then a move to 0.
 TEST(Transcripts, Session2022BlockHoming) {
   core::PlantConfig plant;
-  plant.stops = core::StopRange{-30000, 1000000};  // raw increments; 360 user units per turn
+  plant.plant.set(&model::Plant::stops_inc,
+                  core::StopRange{-30000, 1000000});  // raw increments; 360 user units per turn
   Drive d("MC349", plant);
   Session s(d.in);
   const auto send = [&](const std::string& line) {

@@ -1,6 +1,7 @@
-// A drive for RefGo tests: preset, dictionary, powered core (booted to switch on disabled) and the
-// interpreter, all in virtual time. step() advances the core and then the interpreter, as the
-// server's clock does.
+// A drive for RefGo tests: a drive bundle built by the one fixture (tests/support/device_fixture.hpp),
+// booted to switch on disabled, and its own RefGo interpreter, all in virtual time. step() is the
+// bundle's step (the drive, then the parts: the interpreter's programs among them), as the server's
+// clock runs it.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -12,29 +13,28 @@
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
 #include "protocols/refgo/interpreter.hpp"
+#include "tests/support/device_fixture.hpp"
 
 namespace mcemu::refgo::test {
 
 struct Drive {
   explicit Drive(const std::string& model = "MC349", const core::PlantConfig& plant = {})
-      : preset(*model::find_preset(model)), od(preset), core(preset, od, plant), in(od, core) {
-    core.power_on();
+      : fixture(model, options(plant)),
+        preset(fixture.preset()),
+        od(fixture.od()),
+        core(fixture.core()),
+        in(fixture.refgo()) {
     step();
   }
 
-  // Executes one line; a pending reply is returned as "<pending>".
+  // Executes one line, then the event hand-off as after a request; a pending reply is returned as
+  // "<pending>".
   std::string run(std::string_view line) {
     auto r = in.execute(line);
-    (void)core.drain_events();
+    fixture.device().handle_events();
     return r.value_or("<pending>");
   }
-  void step(std::uint64_t n = 1) {
-    for (std::uint64_t i = 0; i < n; ++i) {
-      core.step();
-      in.on_step();
-      (void)core.drain_events();
-    }
-  }
+  void step(std::uint64_t n = 1) { fixture.step(n); }
   // Steps until pred() holds; returns the steps taken, or max_ms + 1.
   template <typename Pred>
   std::uint64_t step_until(Pred pred, std::uint64_t max_ms) {
@@ -61,10 +61,21 @@ struct Drive {
   std::string ts() { return answer_of(run("TS")); }
   std::int64_t tp() { return std::stoll(answer_of(run("TP"))); }
 
-  model::ModelPreset preset;
-  od::ObjectDictionary od;
-  core::DriveCore core;
-  Interpreter in;
+  // Removes the persistence service's Store/Restore hooks, for tests that install their own.
+  void release_store_hooks() { fixture.release_store_hooks(); }
+
+  static mcemu::testing::DeviceOptions options(const core::PlantConfig& plant) {
+    mcemu::testing::DeviceOptions o;
+    o.plant = plant;
+    o.keep_events = false;
+    return o;
+  }
+
+  mcemu::testing::DeviceFixture fixture;
+  const model::ModelPreset& preset;
+  od::ObjectDictionary& od;
+  core::DriveCore& core;
+  Interpreter& in;
 };
 
 // "{TP}" in an expected reply stands for a signed decimal (refgo.md §14).

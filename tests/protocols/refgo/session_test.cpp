@@ -99,6 +99,7 @@ TEST_F(SessionTest, HundredPipelinedLinesInOrder) {
 
 TEST_F(SessionTest, PendingStoreHoldsBackLaterLines) {
   od::Done held;
+  d_.release_store_hooks();  // this test's hook stands in for the persistence service
   od_.on_write(0x1010, 1, [&](od::WriteRequest& r) {
     held = std::move(*r.done);
     return od::AbortCode::pending;
@@ -124,6 +125,7 @@ TEST_F(SessionTest, PendingStoreHoldsBackLaterLines) {
 
 TEST_F(SessionTest, LateReplyAfterTheSessionIsGoneIsDropped) {
   od::Done held;
+  d_.release_store_hooks();  // this test's hook stands in for the persistence service
   od_.on_write(0x1010, 1, [&](od::WriteRequest& r) {
     held = std::move(*r.done);
     return od::AbortCode::pending;
