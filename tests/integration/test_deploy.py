@@ -40,9 +40,15 @@ DEFAULT_PORTS = {s: int(re.search(rf"--{s}-port N .*?\(default (\d+)", HELP).gro
 
 
 def dockerfile():
-    """The runtime stage of docker/Dockerfile: ENTRYPOINT, EXPOSE, USER, VOLUME, uid and gid."""
+    """The image's stage of docker/Dockerfile: ENTRYPOINT, EXPOSE, USER, VOLUME, uid and gid. The final
+    stage may start FROM an earlier stage of the file (FROM runtime): its text counts as well."""
     text = read("docker/Dockerfile").replace("\\\n", " ")
-    final = text[text.rindex("\nFROM "):]
+    stages = re.split(r"^(?=FROM )", text, flags=re.M)[1:]
+    by_name = {m.group(1): st for st in stages if (m := re.match(r"FROM \S+ AS (\S+)", st))}
+    final = stages[-1]
+    base = re.match(r"FROM (\S+)", final).group(1)
+    if base in by_name:
+        final = by_name[base] + final
     out = {"entrypoint": json.loads(re.search(r"^ENTRYPOINT (\[.*\])$", final, re.M).group(1)),
            "expose": set(re.search(r"^EXPOSE (.*)$", final, re.M).group(1).split()),
            "user": re.search(r"^USER (\S+)$", final, re.M).group(1),

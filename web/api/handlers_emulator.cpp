@@ -49,7 +49,11 @@ std::variant<TraceQuery, Response> trace_query(const std::map<std::string, std::
   const std::string* channels = get("channels");
   const auto set = trace::parse_channels(channels ? std::string_view(*channels) : default_channels);
   if (!set || (channels && channels->empty())) {
-    return bad("\"channels\": comma-separated names of refgo, slcan, udp, http, script, drive, api, faulhaber, basic, lint");
+    std::string names;
+    for (std::size_t i = 0; i < trace::k_channel_count; ++i) {
+      names += (i == 0 ? "" : ", ") + std::string(trace::to_string(static_cast<trace::Channel>(i)));
+    }
+    return bad("\"channels\": comma-separated names of " + names);
   }
   t.q.channels = *set;
   if (const auto* l = get("limit")) {

@@ -157,7 +157,8 @@ json openapi_document(std::span<const RouteDoc> rows, std::string_view version) 
            {{"code",
              {{"type", "string"},
               {"description",
-               "abort, syntax, range, content-type, method, not-found, conflict, unavailable, forbidden, unauthorized"}}},
+               "abort, syntax, range, content-type, method, not-found, conflict, unavailable, forbidden, "
+               "unauthorized"}}},
             {"abortCode", {{"type", "string"}, {"description", "SDO abort code, e.g. 06090031h (code abort only)"}}},
             {"message", {{"type", "string"}}}}}}}}}};
   return json{{"openapi", "3.0.3"},

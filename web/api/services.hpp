@@ -1,5 +1,5 @@
 // Everything the JSON API needs from outside the pure drive, in one struct the composition root
-// fills (server/app.cpp). Every member is optional: an absent hook gives the answer documented
+// fills (server/drive_web.cpp). Every member is optional: an absent hook gives the answer documented
 // next to it (mostly 503 with error code "unavailable"), never a fake success.
 //
 // Threading: all hooks are called on the event-loop thread, from Router::handle().

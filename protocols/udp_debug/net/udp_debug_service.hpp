@@ -2,7 +2,7 @@
 // posted flush per burst of output, non-blocking sends from the bound socket, and the counters.
 //
 // Contract: everything on the io_context's single thread. The socket is bound by the composition
-// root (server/app.cpp) and outlives the service. Sending never blocks: a datagram the kernel
+// root (server/drive_unit.cpp, one per MovingCap drive) and outlives the service. Sending never blocks: a datagram the kernel
 // refuses is dropped and counted; a receive error is counted and the next receive starts at once.
 // The composition root calls power_up() at process start and power_cycle() for a power cycle
 // (listeners and backlog forgotten, start-up block produced again, persistence.md §7).
