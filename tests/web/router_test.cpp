@@ -30,6 +30,39 @@ std::string header(const Response& r, std::string_view name) {
   return {};
 }
 
+// ---- path patterns (routes.hpp) ------------------------------------------------------------------
+
+TEST(Routes, PathPatternsMatchSegmentBySegment) {
+  struct Row {
+    std::string_view pattern, path;
+    std::optional<std::vector<std::string>> values;
+  };
+  using V = std::vector<std::string>;
+  const Row rows[] = {
+      {"/api/v1/status", "/api/v1/status", V{}},
+      {"/api/v1/status", "/api/v1/statu", std::nullopt},
+      {"/api/v1/status", "/api/v1/status/", std::nullopt},  // one more (empty) segment
+      {"/api/v1/status", "/api/v1", std::nullopt},
+      {"/api/v1/objects/{index}/{sub}", "/api/v1/objects/6041/0", V{"6041", "0"}},
+      {"/api/v1/objects/{index}/{sub}", "/api/v1/objects/6041", std::nullopt},
+      {"/api/v1/objects/{index}/{sub}", "/api/v1/objects/6041/0/1", std::nullopt},
+      {"/api/v1/objects/{index}", "/api/v1/objects/", V{""}},  // a parameter matches an empty segment
+      {"/api/v1/faults/{id}", "/api/v2/faults/f7", std::nullopt},
+      {"/api/v1/status", "api/v1/status", std::nullopt},  // not a path
+      {"/api/v1/status", "", std::nullopt},
+      {"", "/api/v1/status", std::nullopt},
+  };
+  for (const auto& r : rows) {
+    EXPECT_EQ(match_path(r.pattern, r.path), r.values) << r.pattern << " vs " << r.path;
+    EXPECT_EQ(path_matches(r.pattern, r.path), r.values.has_value()) << r.pattern << " vs " << r.path;
+  }
+  EXPECT_EQ(parameter_count("/api/v1/objects/{index}/{sub}"), 2U);
+  EXPECT_EQ(parameter_count("/api/v1/status"), 0U);
+  EXPECT_EQ(parameter_count("/api/v1/faults/{id}"), 1U);
+  EXPECT_EQ(parameter_count(""), 0U);
+  EXPECT_EQ(parameter_names("/api/v1/objects/{index}/{sub}"), (std::vector<std::string>{"index", "sub"}));
+}
+
 // ---- dispatch ---------------------------------------------------------------------------------
 
 TEST(Router, UnknownPathsGetThe404Page) {

@@ -514,7 +514,7 @@ void Router::dispatch(const Request& request, const Respond& respond) {
   const auto& rows = routes();
   std::size_t best = SIZE_MAX;
   for (const auto& r : rows) {
-    if (match_path(r.doc.path, path)) best = std::min(best, parameter_count(r.doc.path));
+    if (path_matches(r.doc.path, path)) best = std::min(best, parameter_count(r.doc.path));
   }
   // An API client parses JSON, also when it asked for a path that does not exist (web.md §1.4).
   if (best == SIZE_MAX) return respond(unknown_api_path(path));
@@ -522,7 +522,7 @@ void Router::dispatch(const Request& request, const Respond& respond) {
   const Route* route = nullptr;
   std::string allow;
   for (const auto& r : rows) {
-    if (parameter_count(r.doc.path) != best || !match_path(r.doc.path, path)) continue;
+    if (parameter_count(r.doc.path) != best || !path_matches(r.doc.path, path)) continue;
     if (!allow.empty()) allow += ", ";
     allow += to_string(r.doc.method);
     if (r.doc.method == Method::get) allow += ", HEAD";

@@ -55,22 +55,45 @@ std::string_view parameter_description(std::string_view name) {
 
 }  // namespace
 
-std::optional<std::vector<std::string>> match_path(std::string_view pattern, std::string_view path) {
-  const auto p = segments(pattern);
-  const auto s = segments(path);
-  if (p.empty() || p.size() != s.size()) return std::nullopt;
-  std::vector<std::string> values;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (is_parameter(p[i])) {
-      values.emplace_back(s[i]);
-    } else if (p[i] != s[i]) {
-      return std::nullopt;
+// Segment by segment without allocating (the router asks every route on every request).
+bool path_matches(std::string_view pattern, std::string_view path, std::vector<std::string>* values) {
+  if (pattern.empty() || pattern[0] != '/' || path.empty() || path[0] != '/') return false;
+  pattern.remove_prefix(1);
+  path.remove_prefix(1);
+  while (true) {
+    const auto pslash = pattern.find('/');
+    const auto sslash = path.find('/');
+    const auto p = pattern.substr(0, pslash);
+    const auto s = path.substr(0, sslash);
+    if (is_parameter(p)) {
+      if (values) values->emplace_back(s);
+    } else if (p != s) {
+      return false;
     }
+    if ((pslash == std::string_view::npos) != (sslash == std::string_view::npos)) return false;
+    if (pslash == std::string_view::npos) return true;
+    pattern.remove_prefix(pslash + 1);
+    path.remove_prefix(sslash + 1);
   }
+}
+
+std::optional<std::vector<std::string>> match_path(std::string_view pattern, std::string_view path) {
+  std::vector<std::string> values;
+  if (!path_matches(pattern, path, &values)) return std::nullopt;
   return values;
 }
 
-std::size_t parameter_count(std::string_view pattern) { return parameter_names(pattern).size(); }
+std::size_t parameter_count(std::string_view pattern) {
+  if (pattern.empty() || pattern[0] != '/') return 0;
+  pattern.remove_prefix(1);
+  std::size_t n = 0;
+  while (true) {
+    const auto slash = pattern.find('/');
+    n += is_parameter(pattern.substr(0, slash)) ? 1 : 0;
+    if (slash == std::string_view::npos) return n;
+    pattern.remove_prefix(slash + 1);
+  }
+}
 
 std::vector<std::string> parameter_names(std::string_view pattern) {
   std::vector<std::string> out;

@@ -49,6 +49,8 @@ bool bearer_matches(std::optional<std::string_view> authorization, std::string_v
 // The values of the {parameters} of `pattern` if `path` matches it (a parameter matches one
 // segment, also an empty one), else nullopt.
 std::optional<std::vector<std::string>> match_path(std::string_view pattern, std::string_view path);
+// The same test without allocating; the parameter values are appended to *values when given.
+bool path_matches(std::string_view pattern, std::string_view path, std::vector<std::string>* values = nullptr);
 // Number of {parameters} of a pattern (a literal segment beats a parameter).
 std::size_t parameter_count(std::string_view pattern);
 // The parameter names of a pattern, in order ("index", "sub").

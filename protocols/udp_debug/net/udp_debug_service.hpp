@@ -2,13 +2,12 @@
 // posted flush per burst of output, non-blocking sends from the bound socket, and the counters.
 //
 // Contract: everything on the io_context's single thread. The socket is bound by the composition
-// root (server/drive_unit.cpp, one per MovingCap drive) and outlives the service. Sending never blocks: a datagram the kernel
-// refuses is dropped and counted; a receive error is counted and the next receive starts at once.
-// The composition root calls power_up() at process start and power_cycle() for a power cycle
-// (listeners and backlog forgotten, start-up block produced again, persistence.md §7).
-// Taps (udp-debug.md §6, web.md §9, morse-led.md §5.2), through Taps: the time stamp of a
-// registration, every datagram received (with the console's verdict) and sent, and a veto per
-// datagram before it is sent (udp.drop: counted as dropped, not sent).
+// root (server/drive_unit.cpp, one per MovingCap drive) and outlives the service. Sending never blocks: a datagram the
+// kernel refuses is dropped and counted; a receive error is counted and the next receive starts at once. The
+// composition root calls power_up() at process start and power_cycle() for a power cycle (listeners and backlog
+// forgotten, start-up block produced again, persistence.md §7). Taps (udp-debug.md §6, web.md §9, morse-led.md §5.2),
+// through Taps: the time stamp of a registration, every datagram received (with the console's verdict) and sent, and a
+// veto per datagram before it is sent (udp.drop: counted as dropped, not sent).
 #pragma once
 
 #include <array>
