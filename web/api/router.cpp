@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <exception>
+#include <unordered_map>
 
 #include "protocols/refgo/interpreter.hpp"
 #include "web/api/http_util.hpp"
@@ -511,22 +512,40 @@ void Router::dispatch(const Request& request, const Respond& respond) {
   const std::string path(target_path(request.target));
   if (path.rfind("/api/", 0) != 0) return page(request, respond);
 
-  const auto& rows = routes();
-  std::size_t best = SIZE_MAX;
-  for (const auto& r : rows) {
-    if (path_matches(r.doc.path, path)) best = std::min(best, parameter_count(r.doc.path));
+  // The routes of the path: a literal pattern equal to it (most requests: status, info, trace; looked
+  // up, built once), else those of the matching patterns with the fewest parameters (a literal
+  // segment beats a parameter).
+  static const auto literal = [] {
+    std::unordered_map<std::string_view, std::vector<const Route*>> m;
+    for (const auto& r : routes()) {
+      if (parameter_count(r.doc.path) == 0) m[r.doc.path].push_back(&r);
+    }
+    return m;
+  }();
+  std::vector<const Route*> matched;
+  const std::vector<const Route*>* candidates = nullptr;
+  if (const auto it = literal.find(path); it != literal.end()) {
+    candidates = &it->second;
+  } else {
+    std::size_t best = SIZE_MAX;
+    for (const auto& r : routes()) {
+      if (path_matches(r.doc.path, path)) best = std::min(best, parameter_count(r.doc.path));
+    }
+    // An API client parses JSON, also when it asked for a path that does not exist (web.md §1.4).
+    if (best == SIZE_MAX) return respond(unknown_api_path(path));
+    for (const auto& r : routes()) {
+      if (parameter_count(r.doc.path) == best && path_matches(r.doc.path, path)) matched.push_back(&r);
+    }
+    candidates = &matched;
   }
-  // An API client parses JSON, also when it asked for a path that does not exist (web.md §1.4).
-  if (best == SIZE_MAX) return respond(unknown_api_path(path));
   const auto method = method_of(request.method);
   const Route* route = nullptr;
   std::string allow;
-  for (const auto& r : rows) {
-    if (parameter_count(r.doc.path) != best || !path_matches(r.doc.path, path)) continue;
+  for (const Route* r : *candidates) {
     if (!allow.empty()) allow += ", ";
-    allow += to_string(r.doc.method);
-    if (r.doc.method == Method::get) allow += ", HEAD";
-    if (method && r.doc.method == *method) route = &r;
+    allow += to_string(r->doc.method);
+    if (r->doc.method == Method::get) allow += ", HEAD";
+    if (method && r->doc.method == *method) route = r;
   }
   if (!route) {
     auto r = error_json(405, "method", "method " + request.method + " not allowed on " + path);
