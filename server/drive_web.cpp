@@ -107,6 +107,7 @@ void DriveUnit::build_web(const asio::ip::address& address) {
 
   web::net::HttpOptions http_options;
   http_options.max_clients = settings_.http_max_clients;
+  http_options.ws.max_clients = settings_.ws_max_clients;
   http_options.ids = conn_ids_;
   if (settings_.idle_timeout.count() > 0) {
     http_options.idle_timeout = std::min<std::chrono::milliseconds>(http_options.idle_timeout, settings_.idle_timeout);

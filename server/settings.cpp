@@ -230,6 +230,11 @@ void apply_config(Settings& s, const json& config, const std::vector<std::string
       *target = parse_clients(scalar_text(config[section]["max_clients"], what), what);
     }
   }
+  // WebSockets of the HTTP port (a dashboard with many viewers); each is also one of http.max_clients
+  if (config.contains("http") && config["http"].contains("ws_max_clients")) {
+    const std::string what = "config key \"http.ws_max_clients\"";
+    s.ws_max_clients = parse_clients(scalar_text(config["http"]["ws_max_clients"], what), what);
+  }
   s.config = config;
 }
 

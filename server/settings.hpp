@@ -40,6 +40,7 @@ struct Settings {
   std::size_t refgo_max_clients = 8;
   std::size_t slcan_max_clients = 8;
   std::size_t http_max_clients = 32;
+  std::size_t ws_max_clients = 16;  // "http": {"ws_max_clients": N} (web.md §10.5: 16 by default)
   std::size_t faulhaber_max_clients = 8;
   // Fleets (server/fleet.hpp): --drives N, --port-step S, --fleet FILE (its JSON list in `fleet`).
   std::size_t drives = 1;

@@ -5,8 +5,10 @@ the two LEDs of morse-led.md §7 (schedule decode, live sampling under --clock m
 of a fault, the yellow LED's connections)."""
 import http.client
 import json
+import os
 import re
 import socket
+import tempfile
 import threading
 import time
 import unittest
@@ -171,6 +173,26 @@ class WebSocketLive(unittest.TestCase):
         finally:
             for c in clients:
                 c.close()
+
+
+class WebSocketLimitFromConfig(unittest.TestCase):
+    def test_http_ws_max_clients_sets_the_limit(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            config = os.path.join(tmp, "ws.json")
+            with open(config, "w") as f:
+                json.dump({"http": {"ws_max_clients": 20}}, f)
+            with Mcemu("--config", config) as m:
+                clients = []
+                try:
+                    for _ in range(20):  # four more than the default of 16
+                        clients.append(WebSocket(m.ports["http"]))
+                        clients[-1].recv_type("hello")
+                    with self.assertRaises(HandshakeRefused) as e:
+                        WebSocket(m.ports["http"])
+                    self.assertIn(" 503 ", e.exception.status_line + " ")
+                finally:
+                    for c in clients:
+                        c.close()
 
 
 class PowerCycle(unittest.TestCase):

@@ -155,6 +155,7 @@ TEST(Config, FlagsWithoutDashesAndCommandLineWins) {
                     {"ip", "10.1.1.1"},
                     {"max-clients", 4},
                     {"slcan", {{"max_clients", 2}}},
+                    {"http", {{"ws_max_clients", 120}}},
                     {"objects", {{"6083.00", 2000}}}},
                {"model"});
   EXPECT_EQ(s.model, "MC349") << "the command line wins";
@@ -164,13 +165,16 @@ TEST(Config, FlagsWithoutDashesAndCommandLineWins) {
   EXPECT_EQ(s.refgo_max_clients, 4u);
   EXPECT_EQ(s.slcan_max_clients, 2u) << "a per-service key overrides max-clients";
   EXPECT_EQ(s.http_max_clients, 4u);
+  EXPECT_EQ(s.ws_max_clients, 120u);
+  EXPECT_EQ(Settings{}.ws_max_clients, 16u);
   EXPECT_EQ(s.config["objects"]["6083.00"], 2000);
 }
 
 TEST(Config, InvalidValuesAreUsageErrors) {
   for (const json& bad :
        {json{{"modell", "x"}}, json{{"http_port", "eighty"}}, json{{"http_port", 70000}}, json{{"objects", 5}},
-        json{{"model", "MC999"}}, json{{"slcan", {{"max_clients", 0}}}}, json{{"ip", true}}, json::array()}) {
+        json{{"model", "MC999"}}, json{{"slcan", {{"max_clients", 0}}}}, json{{"http", {{"ws_max_clients", 0}}}},
+        json{{"http", {{"ws_max_clients", "many"}}}}, json{{"ip", true}}, json::array()}) {
     Settings s;
     EXPECT_THROW(apply_config(s, bad, {}), UsageError) << bad.dump();
   }
