@@ -101,10 +101,19 @@ struct FhFixture {
       i.model = bundle.preset().name;
       i.device_name = bundle.preset().identity.device_name;
       i.display_name = bundle.preset().identity.display_name;
+      fill_as_the_server(i);
       return i;
     };
     services.trace = &bundle.device().trace();
     router = std::make_unique<Router>(bundle.device(), services);
+  }
+  // The address fields exactly as server/drive_web.cpp fills them.
+  void fill_as_the_server(Info& i) {
+    i.ip = bundle.device().active_ip();
+    i.mask = bundle.device().active_mask();
+    i.bind = "127.0.0.1";
+    i.http_port = 8080;
+    i.faulhaber_port = 10002;
   }
   Response call(std::string method, std::string target, std::string body = "") {
     std::string type = body.empty() ? std::string() : std::string("application/json");
@@ -222,6 +231,33 @@ TEST(FhPages, EveryModelServesItsPageAndRefGoIsRefusedNotCrashed) {
     EXPECT_EQ(f.call("GET", "/emulator.html").status, 200) << model;
     EXPECT_EQ(f.call("POST", "/api/v1/refgo", R"({"line": "TP"})").status, 503) << model;
   }
+}
+
+// GET /api/v1/info: a FAULHABER MC has no IP address of its own (no 5007h/5008h; it is reached
+// over RS232), so "ip" and "mask" are left out; "bind" and "ports" say where mcemu listens for it.
+// A MovingCap keeps both.
+TEST(FhInfo, NoIpOrMaskTheListenersSayWhereTheDriveIs) {
+  for (const char* model : {"FH_MC5004", "FH_MC5005", "FH_MC5010", "FH_MCS"}) {
+    FhFixture f(model);
+    const json info = f.router->info_json();
+    EXPECT_FALSE(info.contains("ip")) << model << " " << info.dump();
+    EXPECT_FALSE(info.contains("mask")) << model;
+    EXPECT_EQ(info["bind"], "127.0.0.1") << model;
+    EXPECT_EQ(info["ports"], (json{{"faulhaber", 10002}, {"http", 8080}})) << model;
+    EXPECT_EQ(json::parse(f.call("GET", "/api/v1/info").body), info) << model;
+  }
+  mcemu::testing::DeviceFixture bundle("MC349");
+  Services services;
+  services.info = [&] {
+    Info i;
+    i.ip = bundle.device().active_ip();
+    i.mask = bundle.device().active_mask();
+    return i;
+  };
+  Router router(bundle.device(), services);
+  const json info = router.info_json();
+  EXPECT_EQ(info["ip"], "192.168.2.150");
+  EXPECT_EQ(info["mask"], "255.255.255.0");
 }
 
 TEST(MovingCapPages, TheFaulhaberTemplateIsNotServed) {
