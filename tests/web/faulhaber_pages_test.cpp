@@ -9,6 +9,7 @@
 #include <string>
 
 #include "tests/support/device_fixture.hpp"
+#include "web/api/led_view.hpp"
 #include "web/api/pages.hpp"
 #include "web/api/router.hpp"
 #include "web/api/status.hpp"
@@ -103,6 +104,10 @@ struct FhFixture {
       i.display_name = bundle.preset().identity.display_name;
       fill_as_the_server(i);
       return i;
+    };
+    // as server/drive_web.cpp gives them to every drive
+    services.led = [this](std::string_view query) {
+      return led_response(bundle.device().leds(), bundle.core().time_ms(), query);
     };
     services.trace = &bundle.device().trace();
     router = std::make_unique<Router>(bundle.device(), services);
@@ -258,6 +263,30 @@ TEST(FhInfo, NoIpOrMaskTheListenersSayWhereTheDriveIs) {
   const json info = router.info_json();
   EXPECT_EQ(info["ip"], "192.168.2.150");
   EXPECT_EQ(info["mask"], "255.255.255.0");
+}
+
+// GET /api/v1/led: a FAULHABER MC has no Morse-coded STATUS LED; the route answers its bicolour
+// status LED (as the snapshot's "led"), never the MovingCap's Morse schedule.
+TEST(FhLed, ApiLedAnswersTheStatusLedNotTheMorseSchedule) {
+  FhFixture f;
+  f.bundle.step(10);
+  auto led = [&](const char* target = "/api/v1/led") {
+    const Response r = f.call("GET", target);
+    EXPECT_EQ(r.status, 200) << r.body;
+    EXPECT_EQ(header(r, "Cache-Control"), "no-store");
+    return json::parse(r.body);
+  };
+  EXPECT_EQ(led(), (json{{"timeMs", 10}, {"personality", "faulhaber"}, {"color", "green"}, {"blink", true}}));
+  EXPECT_EQ(led()["color"], f.status()["led"]["color"]);
+  EXPECT_EQ(led("/api/v1/led?fromMs=0&toMs=10"), led()) << "no edges to window";
+  f.bundle.W(0x6040, 0, 0x06);
+  f.bundle.W(0x6040, 0, 0x0F);
+  f.bundle.step(2);
+  EXPECT_EQ(led()["color"], "green");
+  EXPECT_EQ(led()["blink"], false) << "Operation enabled: steady";
+  ASSERT_EQ(f.call("POST", "/api/v1/faults", R"({"kind": "drive.inject", "cause": "stroke"})").status, 201);
+  f.bundle.step(20);
+  EXPECT_EQ(led()["color"], "red");
 }
 
 TEST(MovingCapPages, TheFaulhaberTemplateIsNotServed) {
