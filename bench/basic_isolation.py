@@ -11,11 +11,12 @@
    clients are an SDO read of 6041h over the FAULHABER protocol on drive 2 and RefGo `TP` on drive 3,
    one connection each, CALLS requests per phase (at most PHASE seconds); phases alternate no program / spinning, ROUNDS
    times; medians of the rounds' p50 and p99. Done for each budget in SPIN_BUDGETS (the budget is a
-   per-drive config key, so each budget is its own process).
+   per-drive config key, so each budget is its own process). PROGRAM=heavy spins the heaviest
+   statement there is instead: one 4 KiB line of 219 GETOBJs (2.7 µs each in bench/device_bench).
 
 usage: bench/basic_isolation.py [BINARY]
-env: ROUNDS (5), CALLS (3000), PHASE (10 s), BUDGET (100000), ADVANCE (1000),
-     SPIN_BUDGETS ("20,1000,100000")
+env: ROUNDS (5), CALLS (3000), PHASE (10 s), BUDGET (250, the largest allowed), ADVANCE (1000),
+     SPIN_BUDGETS ("20,250"), PROGRAM ("tight" or "heavy")
 """
 import json
 import os
@@ -35,12 +36,14 @@ from mcemu_harness import Mcemu, wait_for  # noqa: E402
 
 ROUNDS = int(os.environ.get("ROUNDS", "5"))
 CALLS = int(os.environ.get("CALLS", "3000"))
-BUDGET = int(os.environ.get("BUDGET", "100000"))
+BUDGET = int(os.environ.get("BUDGET", "250"))
 ADVANCE = int(os.environ.get("ADVANCE", "1000"))
 PHASE = float(os.environ.get("PHASE", "10"))
-SPIN_BUDGETS = [int(x) for x in os.environ.get("SPIN_BUDGETS", "20,1000,100000").split(",")]
+SPIN_BUDGETS = [int(x) for x in os.environ.get("SPIN_BUDGETS", "20,250").split(",")]
+PROGRAM = os.environ.get("PROGRAM", "tight")
 
 SPIN = b":Spin\na = a + 1\nb = a\nc = b * 3 - a\nGOTO Spin\n"
+HEAVY = b":Spin\nb = b + 1\na = GETOBJ $6064.00" + b" + GETOBJ $6064.00" * 218 + b"\nGOTO Spin\n"
 READ_6041 = bytes.fromhex("53 07 01 01 41 60 00 73 45")
 
 
@@ -140,7 +143,8 @@ def isolation(budget):
             wait_for(lambda: len(m.drives) == 3 and "refgo" in m.drives[3], what="three drives")
             fh = FhReader(*m.drives[2]["faulhaber"])
             rg = RefGoTp(*m.drives[3]["refgo"])
-            http_ok(m, "PUT", "/api/v1/faulhaber/programs/1", SPIN, content_type="text/plain")
+            program = HEAVY if PROGRAM == "heavy" else SPIN
+            http_ok(m, "PUT", "/api/v1/faulhaber/programs/1", program, content_type="text/plain")
             latencies(fh, 300)
             latencies(rg, 300)
             tck = os.sysconf("SC_CLK_TCK")
@@ -175,7 +179,7 @@ def main():
         print(f"tight loop, {budget} statements/ms, advance {advance} ms: {med / 1e6:.1f} M statements/s of wall time"
               f" (median of {ROUNDS}; min {lo / 1e6:.1f}, max {hi / 1e6:.1f})", flush=True)
     print(f"\nhealthy clients on drives 2 and 3 while drive 1 spins (medians of {ROUNDS} rounds, {CALLS} requests "
-          f"per phase, microseconds)")
+          f"per phase, microseconds; program {PROGRAM})")
     print(f"{'budget':>8} {'FH SDO p50':>22} {'FH SDO p99':>22} {'RefGo TP p50':>22} {'RefGo TP p99':>22} "
           f"{'CPU %':>6} {'drive time %':>12}")
     for budget in SPIN_BUDGETS:

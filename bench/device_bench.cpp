@@ -3,6 +3,9 @@
 // - one 1 ms step of a drive moving in RefGo Back & Forth (every part of the step, not only the
 //   core: the cost that grows with the number of moving drives);
 // - one step of an idle drive, as the clock sees it (quiet_steps + skip).
+// - one step of a FAULHABER drive running an MC BASIC program that never waits, at a given
+//   faulhaber.basic_statements_per_ms: the cost of the budget's worst case (faulhaber.md §9.9,
+//   docs/faulhaber.md "Execution model"); items/s = statements/s.
 // Reports numbers only; nothing is asserted. Instruction counts: valgrind --tool=callgrind.
 #include <benchmark/benchmark.h>
 
@@ -73,8 +76,50 @@ void BM_IdleMinute_MC349(benchmark::State& state) {
   }
 }
 
+// An FH_MC5005 bundle running `program` (slot 1) with budget state.range(0): one full step each.
+void spin(benchmark::State& state, const char* program) {
+  DeviceOptions o = quiet();
+  o.config = {{"faulhaber", {{"basic_statements_per_ms", static_cast<std::uint64_t>(state.range(0))}}}};
+  DeviceFixture d("FH_MC5005", o);
+  d.device().power_up_network();
+  (void)d.device().upload_program(1, program);
+  (void)d.device().basic()->start(1);
+  const auto& interp = d.device().basic()->interpreter();
+  d.step();
+  const auto before = interp.statements();
+  for (auto _ : state) {
+    d.device().steps().touch();  // always a full step, as a busy program makes it
+    d.step();
+  }
+  if (!interp.running()) state.SkipWithError(interp.error().message.c_str());
+  state.SetItemsProcessed(static_cast<std::int64_t>(interp.statements() - before));
+}
+
+// The tight loop of bench/basic_isolation.py: assignments only.
+void BM_BasicSpin_Assign(benchmark::State& state) {
+  spin(state, ":Spin\na = a + 1\nb = a\nc = b * 3 - a\nGOTO Spin\n");
+}
+// Every statement a SETOBJ that changes a value: a dictionary write with its hooks, a trace event
+// (channel basic) and the master lint's write tap per statement.
+void BM_BasicSpin_Setobj(benchmark::State& state) {
+  spin(state, ":Spin\na = a + 1\nSETOBJ $607A.00 = a\nSETOBJ $6081.00 = a & $FFFF\nGOTO Spin\n");
+}
+// The heaviest statement there is: one line of a 4096-byte program with 220 GETOBJs in one
+// expression (a dictionary read each; the loader bounds parentheses, not operands).
+void BM_BasicSpin_GetobjLine(benchmark::State& state) {
+  static const std::string text = [] {
+    std::string line = "a = GETOBJ $6064.00";
+    for (int i = 1; i < 220; ++i) line += " + GETOBJ $6064.00";
+    return ":Spin\n" + line + "\nGOTO Spin\n";
+  }();
+  spin(state, text.c_str());
+}
+
 }  // namespace
 
+BENCHMARK(BM_BasicSpin_Assign)->Arg(20)->Arg(250);
+BENCHMARK(BM_BasicSpin_Setobj)->Arg(20)->Arg(250);
+BENCHMARK(BM_BasicSpin_GetobjLine)->Arg(20)->Arg(250);
 BENCHMARK(BM_Construct_MC349)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Construct_FH_MC5005)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MovingStep_MC349);

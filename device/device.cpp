@@ -222,8 +222,12 @@ void Device::build_basic() {
   int autostart = 0;
   if (const auto it = config_.find("faulhaber"); it != config_.end()) {
     if (const auto n = it->find("basic_statements_per_ms"); n != it->end()) {
-      if (!n->is_number_unsigned() || n->get<std::uint64_t>() < 1 || n->get<std::uint64_t>() > 100000) {
-        throw ConfigError("config: \"faulhaber.basic_statements_per_ms\" must be an integer 1 … 100000");
+      // The bound keeps one drive step cheap: a step runs whole, and at 1000 the heaviest statement
+      // there is costs about 0.7 ms per step (docs/faulhaber.md "Execution model").
+      if (!n->is_number_unsigned() || n->get<std::uint64_t>() < 1 ||
+          n->get<std::uint64_t>() > basic::k_max_statements_per_ms) {
+        throw ConfigError("config: \"faulhaber.basic_statements_per_ms\" must be an integer 1 … " +
+                          std::to_string(basic::k_max_statements_per_ms));
       }
       bs.statements_per_ms = static_cast<std::uint32_t>(n->get<std::uint64_t>());
     }

@@ -22,10 +22,13 @@ class ClockDriver::Always final : public sim::Steppable {
 };
 
 ClockDriver::ClockDriver(boost::asio::io_context& io, sim::Steppable& target, sim::ClockMode mode)
-    : io_(io), timer_(io), logic_(target, mode) {}
+    : io_(io), timer_(io), logic_(target, mode, [this] { return now(); }) {}
 
 ClockDriver::ClockDriver(boost::asio::io_context& io, std::function<void()> step)
-    : always_(std::make_unique<Always>(std::move(step))), io_(io), timer_(io), logic_(*always_, sim::ClockMode{}) {}
+    : always_(std::make_unique<Always>(std::move(step))),
+      io_(io),
+      timer_(io),
+      logic_(*always_, sim::ClockMode{}, [this] { return now(); }) {}
 
 ClockDriver::~ClockDriver() {
   alive_.end();

@@ -2,7 +2,8 @@
 // shell around ClockLogic. Under --clock real (1 ms steps paced by the wall clock) and
 // scaled:X (drive time = X × wall time) it sleeps until the next step the drive needs — an idle
 // drive costs no wake-ups — and catches up exactly when woken by that deadline or by a client
-// (sync/wake); when behind it runs at most 50 full steps per loop iteration and logs one warning
+// (sync/wake); when behind it runs at most 50 full steps per loop iteration, and no further one
+// once the iteration has taken 2 ms (sim::ClockLogic::k_max_wall_per_wake), and logs one warning
 // per 10 s naming the lag. Under --clock manual drive time stands still except for advance().
 //
 // Contract: event-loop thread only; the target (one drive's sim::DriveSteps, or a sim::Fleet) must

@@ -18,8 +18,12 @@ canopen::EdsInfo eds_info(const model::ModelPreset& preset) {
   std::strftime(time, sizeof time, "%I:%M%p", &tm);
   canopen::EdsInfo info;
   info.file_name = preset.name + ".eds";
-  info.vendor_name = "Fullmo GmbH";
-  info.description = "MovingCap " + preset.name + " (" + preset.identity.device_name + ") emulated by mcemu";
+  // The vendor is the preset's (Fullmo for a MovingCap, FAULHABER for an FH_ model); VendorNumber,
+  // ProductName and ProductNumber come from the dictionary (1018h, 1008h), which the preset fills.
+  info.vendor_name = preset.identity.vendor_name;
+  info.description = preset.family == model::Family::faulhaber
+                         ? preset.identity.display_name + " (" + preset.name + ") emulated by mcemu"
+                         : "MovingCap " + preset.name + " (" + preset.identity.device_name + ") emulated by mcemu";
   info.date = date;
   info.time = time;
   return info;

@@ -167,19 +167,15 @@ void DriveUnit::open_faulhaber_pty() {
 }
 
 // A FAULHABER connection (faulhaber.md §2): the port's session, every frame on the trace channel
-// faulhaber with its hex and a decoded summary (the texts are only valid during the call).
+// faulhaber with its hex and a decoded summary (the texts are only valid during the call). The ring
+// records every event (it has no "off"), so the line is built in a buffer the callback keeps and
+// reuses: no string per frame; the ring copies it into its own slot.
 std::unique_ptr<line::StreamSession> DriveUnit::make_faulhaber_session(const line::net::PeerInfo& peer) {
   const auto tap = connection_trace(trace::Channel::faulhaber, peer);
-  faulhaber::Port::Trace frames = [tap](const faulhaber::TraceEvent& e) {
+  faulhaber::Port::Trace frames = [tap, text = std::string()](const faulhaber::TraceEvent& e) mutable {
     using K = faulhaber::TraceEvent::Kind;
     const auto dir = e.kind == K::rx ? trace::Dir::rx : e.kind == K::tx ? trace::Dir::tx : trace::Dir::event;
-    std::string text;
-    text.reserve(e.hex.size() + e.summary.size() + 16);
-    if (e.kind == K::dropped) text += "dropped ";
-    if (e.kind == K::ignored) text += "ignored ";
-    text += e.hex;
-    if (!e.hex.empty() && !e.summary.empty()) text += " | ";
-    text += e.summary;
+    faulhaber::trace_line(e, text);
     tap(dir, text, {});
   };
   auto& lint = device_->lint();  // the master lint reads requests and replies from the trace

@@ -40,7 +40,7 @@ ClockLogic::Wall ClockLogic::due_at(std::uint64_t tick) const {
 void ClockLogic::catch_up(Wall now) {
   const std::uint64_t d = due(now);
   const std::uint64_t n = d > ticks_ ? d - ticks_ : 0;
-  const sim::Advanced r = sim::advance(target_, n, k_max_full_per_wake);
+  const sim::Advanced r = sim::advance(target_, n, k_max_full_per_wake, [this, now] { return over_budget(now); });
   ticks_ += r.steps;
   full_ += r.full;
   behind_ = n - r.steps;
@@ -66,13 +66,15 @@ ClockLogic::Next ClockLogic::plan() const {
 }
 
 ClockLogic::Next ClockLogic::on_wake(Wall now) {
-  if (mode_.kind == ClockMode::Kind::manual) return run_manual();
+  if (mode_.kind == ClockMode::Kind::manual) return run_manual(now);
   catch_up(now);
   return plan();
 }
 
 ClockLogic::Next ClockLogic::sync(Wall now) {
-  if (mode_.kind != ClockMode::Kind::manual) catch_up(now);
+  // Already behind, its catch-up wake-up posted: the client is served at the drive time reached so
+  // far instead of waiting for a batch of steps of its own (under load every input would add one).
+  if (mode_.kind != ClockMode::Kind::manual && behind_ == 0) catch_up(now);
   return touch();
 }
 
@@ -87,10 +89,11 @@ bool ClockLogic::request(std::uint64_t n, std::function<void()> done) {
   return true;
 }
 
-ClockLogic::Next ClockLogic::run_manual() {
+ClockLogic::Next ClockLogic::run_manual(Wall now) {
   if (!queue_.empty() && !held()) {
     Request& r = queue_.front();
-    const sim::Advanced a = sim::advance(target_, r.remaining, k_max_full_per_wake, held_);
+    const sim::Advanced a =
+        sim::advance(target_, r.remaining, k_max_full_per_wake, [this, now] { return held() || over_budget(now); });
     ticks_ += a.steps;
     full_ += a.full;
     r.remaining -= a.steps;

@@ -4,10 +4,12 @@
 //
 // Time model (drive-core.md §2.2, spec README "Time"): under `real` and `scaled:X` the drive must
 // have run floor(X · wall ms since start) steps; when woken it catches up — quiet stretches in one
-// skip, at most 50 full steps per wake-up (then it asks to be woken again at once, so network I/O
-// is served in between) — and then sleeps until the next step that the drive needs. Under
-// `manual` nothing runs except advance() requests, one after the other, in slices of at most 50
-// full steps per wake-up; a hold (a script woken by a step, scripting.md §8) pauses the slice.
+// skip, at most 50 full steps per wake-up and no further full step once the wake-up has taken
+// k_max_wall_per_wake of wall time (then it asks to be woken again at once, so network I/O is
+// served in between) — and then sleeps until the next step that the drive needs. Under `manual`
+// nothing runs except advance() requests, one after the other, in slices bounded the same way; a
+// hold (a script woken by a step, scripting.md §8) pauses the slice. Where a slice ends changes no
+// step's outcome: every step runs whole, in order (docs/faulhaber.md "Execution model").
 #pragma once
 
 #include <chrono>
@@ -25,6 +27,10 @@ class ClockLogic {
  public:
   using Wall = std::chrono::nanoseconds;  // a monotonic wall clock reading
   static constexpr std::uint64_t k_max_full_per_wake = 50;
+  // A wake-up runs no further full step once it has taken this long (at least one always runs): a
+  // drive whose steps are expensive (an MC BASIC program at a high budget, a big fleet) cannot hold
+  // the event loop for 50 of them.
+  static constexpr Wall k_max_wall_per_wake = std::chrono::milliseconds(2);
 
   struct Next {
     enum class Kind : std::uint8_t { sleep_until, now, wait } kind = Kind::wait;
@@ -32,7 +38,10 @@ class ClockLogic {
     std::uint64_t lag = 0;  // now (real/scaled): steps still behind the wall clock
   };
 
-  ClockLogic(sim::Steppable& target, ClockMode mode) : target_(target), mode_(mode) {}
+  // `clock`: the wall clock (same epoch as the `now` arguments) read after each full step for
+  // k_max_wall_per_wake; empty = no bound in wall time (tests of the step counts).
+  ClockLogic(sim::Steppable& target, ClockMode mode, std::function<Wall()> clock = {})
+      : target_(target), mode_(mode), clock_(std::move(clock)) {}
 
   const ClockMode& mode() const { return mode_; }
   void start(Wall now);
@@ -40,7 +49,8 @@ class ClockLogic {
   // A wake-up (timer, post, client): run what is due, then say when to come back.
   Next on_wake(Wall now);
   // Before a client's input reaches the drive: drive time caught up to the wall clock (bounded as
-  // on_wake), and the next step marked as a full one. Returns the new plan.
+  // on_wake; nothing runs while a catch-up is already behind — the posted wake-up goes on with it),
+  // and the next step marked as a full one. Returns the new plan.
   Next sync(Wall now);
   // The drive changed outside a step (or has output waiting): the next step is a full one.
   Next touch();
@@ -68,8 +78,9 @@ class ClockLogic {
     std::function<void()> done;
   };
   bool held() const { return held_ && held_(); }
+  bool over_budget(Wall woke) const { return clock_ && clock_() - woke >= k_max_wall_per_wake; }
   void catch_up(Wall now);
-  Next run_manual();
+  Next run_manual(Wall now);
 
   sim::Steppable& target_;
   ClockMode mode_;
@@ -79,6 +90,7 @@ class ClockLogic {
   std::uint64_t behind_ = 0;  // after the last catch-up
   std::deque<Request> queue_;
   std::function<bool()> held_;
+  std::function<Wall()> clock_;
   struct Memo {
     std::uint64_t tick;
     Wall epoch;

@@ -262,6 +262,15 @@ Port::~Port() {
   registry_->sessions.clear();
 }
 
+void trace_line(const TraceEvent& e, std::string& out) {
+  out.clear();
+  if (e.kind == TraceEvent::Kind::dropped) out += "dropped ";
+  if (e.kind == TraceEvent::Kind::ignored) out += "ignored ";
+  out += e.hex;
+  if (!e.hex.empty() && !e.summary.empty()) out += " | ";
+  out += e.summary;
+}
+
 std::unique_ptr<line::StreamSession> Port::make_session(Trace trace) {
   return std::make_unique<Session>(registry_, next_session_id_++, config_.inter_byte_timeout, std::move(trace));
 }

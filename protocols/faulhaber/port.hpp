@@ -68,6 +68,12 @@ struct TraceEvent {
   std::uint8_t command = 0;  // rx, tx: the frame's command byte (the master lint tells responses from notifications)
 };
 
+// The text of one event on the trace channel `faulhaber`: "dropped "/"ignored " for those kinds,
+// the hex, " | " when both parts are there, the summary — e.g. `53 07 01 01 41 60 00 73 45 | SDO
+// read 6041.00`. `out` is cleared first and its capacity reused: a connection's steady stream of
+// frames builds no string.
+void trace_line(const TraceEvent& e, std::string& out);
+
 // Entries the port reads (faulhaber.md §6).
 inline constexpr std::uint16_t k_rs232_index = 0x2400;
 inline constexpr std::uint8_t k_node_id_sub = 0x03;

@@ -41,6 +41,10 @@ namespace mcemu::basic {
 // Same value as sim::k_forever: no step needed.
 inline constexpr std::uint64_t k_never = std::numeric_limits<std::uint64_t>::max();
 
+// The largest statements_per_ms a configuration may ask for (faulhaber.basic_statements_per_ms): a
+// drive step runs its statements whole, so this bounds one step's CPU (docs/faulhaber.md).
+inline constexpr std::uint32_t k_max_statements_per_ms = 250;
+
 struct Settings {
   std::uint32_t statements_per_ms = 20;  // faulhaber.basic_statements_per_ms; 0 counts as 1
   bool idle_detection = true;

@@ -87,6 +87,75 @@ TEST(ClockLogic, BehindItRunsAtMost50FullStepsPerWakeUp) {
   EXPECT_EQ(next.at, ms(201));
 }
 
+// Expensive steps (an MC BASIC program at a high budget): a wake-up stops after the full step that
+// used up k_max_wall_per_wake, well before 50 steps, and asks to come back at once; every step still
+// runs, in order, so only the slicing changes.
+TEST(ClockLogic, BehindAWakeUpEndsOnceItHasTakenItsWallTimeBudget) {
+  FakeTarget f;
+  f.busy = true;
+  Wall wall = ms(200);  // each step costs 0.7 ms of wall time: the third one crosses 2 ms
+  struct Costly final : sim::Steppable {
+    FakeTarget& f;
+    Wall& wall;
+    Costly(FakeTarget& t, Wall& w) : f(t), wall(w) {}
+    void step() override {
+      f.step();
+      wall += ms(0.7);
+    }
+    std::uint64_t quiet_steps() const override { return f.quiet_steps(); }
+    void skip(std::uint64_t n) override { f.skip(n); }
+    void touch() override { f.touch(); }
+  } target(f, wall);
+  sim::ClockLogic c(target, {}, [&] { return wall; });
+  c.start(ms(0));
+  auto next = c.on_wake(wall);
+  EXPECT_EQ(f.t, 3u);
+  ASSERT_EQ(next.kind, Kind::now);
+  EXPECT_EQ(next.lag, 197u);  // due(200 ms) = 200; the clock's own `now` was the wake-up's
+  // a client's input while behind: served at once, at the drive time reached; no batch of its own
+  next = c.sync(wall);
+  EXPECT_EQ(f.t, 3u);
+  EXPECT_EQ(next.kind, Kind::now);
+  c.on_wake(wall);
+  EXPECT_EQ(f.t, 6u);
+  // manual: the same bound slices an advance; the request still completes with every step run
+  FakeTarget g;
+  g.busy = true;
+  Costly manual_target(g, wall);
+  sim::ClockLogic m(manual_target, sim::parse_clock_mode("manual"), [&] { return wall; });
+  m.start(wall);
+  bool done = false;
+  ASSERT_TRUE(m.request(10, [&] { done = true; }));
+  std::vector<std::uint64_t> after;
+  while (m.plan().kind == Kind::now) {
+    m.on_wake(wall);
+    after.push_back(g.t);
+  }
+  EXPECT_EQ(after, (std::vector<std::uint64_t>{3, 6, 9, 10}));
+  EXPECT_TRUE(done);
+  EXPECT_EQ(g.full_at, (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7, 8, 9, 10}));
+}
+
+// A single step longer than the budget still runs: one full step per wake-up at least.
+TEST(ClockLogic, AStepLongerThanTheBudgetStillAdvancesOnePerWakeUp) {
+  FakeTarget f;
+  f.busy = true;
+  Wall wall = ms(5);
+  sim::ClockLogic c(f, {}, [&] {
+    wall += ms(10);
+    return wall;
+  });
+  c.start(ms(0));
+  std::vector<std::uint64_t> after;
+  auto next = c.on_wake(ms(5));
+  after.push_back(f.t);
+  while (next.kind == Kind::now) {
+    next = c.on_wake(ms(5));
+    after.push_back(f.t);
+  }
+  EXPECT_EQ(after, (std::vector<std::uint64_t>{1, 2, 3, 4, 5}));
+}
+
 TEST(ClockLogic, SleepsUntilTheNextNeededStepAndSkipsTheRestInOneCall) {
   FakeTarget f;
   f.needed = {1000, 60000};

@@ -74,5 +74,45 @@ TEST(DumpOd, OneElementPerEntryAscending) {
   EXPECT_EQ(found, 2);
 }
 
+// --dump-eds and GET /api/v1/eds (both eds_info + make_eds): the [FileInfo] and [DeviceInfo] of the
+// drive's own vendor and product — the preset's identity, never Fullmo's for a FAULHABER model.
+struct EdsCase {
+  const char* model;
+  const char* description;
+  const char* vendor_name;
+  const char* vendor_number;
+  const char* product_name;
+  const char* product_number;
+};
+
+class EdsIdentity : public ::testing::TestWithParam<EdsCase> {};
+
+TEST_P(EdsIdentity, FromThePreset) {
+  const auto& c = GetParam();
+  const auto preset = make_preset(with_config(c.model, json::object()));
+  od::ObjectDictionary od(preset);
+  const std::string eds = canopen::make_eds(od, eds_info(preset));
+  const auto has = [&](const std::string& line) { return eds.find("\n" + line + "\n") != std::string::npos; };
+  EXPECT_TRUE(has("FileName=" + std::string(c.model) + ".eds")) << eds.substr(0, 400);
+  EXPECT_TRUE(has(std::string("Description=") + c.description)) << eds.substr(0, 400);
+  EXPECT_TRUE(has(std::string("VendorName=") + c.vendor_name)) << eds.substr(0, 800);
+  EXPECT_TRUE(has(std::string("VendorNumber=") + c.vendor_number)) << eds.substr(0, 800);
+  EXPECT_TRUE(has(std::string("ProductName=") + c.product_name)) << eds.substr(0, 800);
+  EXPECT_TRUE(has(std::string("ProductNumber=") + c.product_number)) << eds.substr(0, 800);
+  const bool faulhaber = std::string(c.model).rfind("FH_", 0) == 0;
+  EXPECT_EQ(eds.find("Fullmo") == std::string::npos, faulhaber) << "a FAULHABER EDS names no Fullmo";
+  EXPECT_EQ(eds.find("MovingCap") == std::string::npos, faulhaber);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Models, EdsIdentity,
+    ::testing::Values(EdsCase{"MC349", "MovingCap MC349 (MC349_ETH_RE) emulated by mcemu", "Fullmo GmbH", "0x0000053B",
+                              "MC349_ETH_RE", "0x00000032"},
+                      EdsCase{"FH_MC5005", "FAULHABER MC 5005 (FH_MC5005) emulated by mcemu",
+                              "Dr. Fritz Faulhaber GmbH & Co. KG", "0x00000147", "MC 5005", "0x00000000"},
+                      EdsCase{"FH_MCS", "FAULHABER MCS 3242 BX4 ET (FH_MCS) emulated by mcemu",
+                              "Dr. Fritz Faulhaber GmbH & Co. KG", "0x00000147", "MCS 3242 BX4 ET", "0x00002D51"}),
+    [](const auto& p) { return std::string(p.param.model); });
+
 }  // namespace
 }  // namespace mcemu::server

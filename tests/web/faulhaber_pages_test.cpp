@@ -9,6 +9,7 @@
 #include <string>
 
 #include "tests/support/device_fixture.hpp"
+#include "web/api/led_view.hpp"
 #include "web/api/pages.hpp"
 #include "web/api/router.hpp"
 #include "web/api/status.hpp"
@@ -101,10 +102,23 @@ struct FhFixture {
       i.model = bundle.preset().name;
       i.device_name = bundle.preset().identity.device_name;
       i.display_name = bundle.preset().identity.display_name;
+      fill_as_the_server(i);
       return i;
+    };
+    // as server/drive_web.cpp gives them to every drive
+    services.led = [this](std::string_view query) {
+      return led_response(bundle.device().leds(), bundle.core().time_ms(), query);
     };
     services.trace = &bundle.device().trace();
     router = std::make_unique<Router>(bundle.device(), services);
+  }
+  // The address fields exactly as server/drive_web.cpp fills them.
+  void fill_as_the_server(Info& i) {
+    i.ip = bundle.device().active_ip();
+    i.mask = bundle.device().active_mask();
+    i.bind = "127.0.0.1";
+    i.http_port = 8080;
+    i.faulhaber_port = 10002;
   }
   Response call(std::string method, std::string target, std::string body = "") {
     std::string type = body.empty() ? std::string() : std::string("application/json");
@@ -222,6 +236,57 @@ TEST(FhPages, EveryModelServesItsPageAndRefGoIsRefusedNotCrashed) {
     EXPECT_EQ(f.call("GET", "/emulator.html").status, 200) << model;
     EXPECT_EQ(f.call("POST", "/api/v1/refgo", R"({"line": "TP"})").status, 503) << model;
   }
+}
+
+// GET /api/v1/info: a FAULHABER MC has no IP address of its own (no 5007h/5008h; it is reached
+// over RS232), so "ip" and "mask" are left out; "bind" and "ports" say where mcemu listens for it.
+// A MovingCap keeps both.
+TEST(FhInfo, NoIpOrMaskTheListenersSayWhereTheDriveIs) {
+  for (const char* model : {"FH_MC5004", "FH_MC5005", "FH_MC5010", "FH_MCS"}) {
+    FhFixture f(model);
+    const json info = f.router->info_json();
+    EXPECT_FALSE(info.contains("ip")) << model << " " << info.dump();
+    EXPECT_FALSE(info.contains("mask")) << model;
+    EXPECT_EQ(info["bind"], "127.0.0.1") << model;
+    EXPECT_EQ(info["ports"], (json{{"faulhaber", 10002}, {"http", 8080}})) << model;
+    EXPECT_EQ(json::parse(f.call("GET", "/api/v1/info").body), info) << model;
+  }
+  mcemu::testing::DeviceFixture bundle("MC349");
+  Services services;
+  services.info = [&] {
+    Info i;
+    i.ip = bundle.device().active_ip();
+    i.mask = bundle.device().active_mask();
+    return i;
+  };
+  Router router(bundle.device(), services);
+  const json info = router.info_json();
+  EXPECT_EQ(info["ip"], "192.168.2.150");
+  EXPECT_EQ(info["mask"], "255.255.255.0");
+}
+
+// GET /api/v1/led: a FAULHABER MC has no Morse-coded STATUS LED; the route answers its bicolour
+// status LED (as the snapshot's "led"), never the MovingCap's Morse schedule.
+TEST(FhLed, ApiLedAnswersTheStatusLedNotTheMorseSchedule) {
+  FhFixture f;
+  f.bundle.step(10);
+  auto led = [&](const char* target = "/api/v1/led") {
+    const Response r = f.call("GET", target);
+    EXPECT_EQ(r.status, 200) << r.body;
+    EXPECT_EQ(header(r, "Cache-Control"), "no-store");
+    return json::parse(r.body);
+  };
+  EXPECT_EQ(led(), (json{{"timeMs", 10}, {"personality", "faulhaber"}, {"color", "green"}, {"blink", true}}));
+  EXPECT_EQ(led()["color"], f.status()["led"]["color"]);
+  EXPECT_EQ(led("/api/v1/led?fromMs=0&toMs=10"), led()) << "no edges to window";
+  f.bundle.W(0x6040, 0, 0x06);
+  f.bundle.W(0x6040, 0, 0x0F);
+  f.bundle.step(2);
+  EXPECT_EQ(led()["color"], "green");
+  EXPECT_EQ(led()["blink"], false) << "Operation enabled: steady";
+  ASSERT_EQ(f.call("POST", "/api/v1/faults", R"({"kind": "drive.inject", "cause": "stroke"})").status, 201);
+  f.bundle.step(20);
+  EXPECT_EQ(led()["color"], "red");
 }
 
 TEST(MovingCapPages, TheFaulhaberTemplateIsNotServed) {

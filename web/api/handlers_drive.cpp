@@ -67,25 +67,28 @@ nlohmann::json Router::info_json() const {
     scripting["sandbox"] =
         json{{"active", sb.active}, {"unsafe", sb.unsafe}, {sb.active ? "description" : "reason", sb.text}};
   }
-  return json{{"emulator", "mcemu"},
-              {"personality", personality.name},
-              {"version", i.version},
-              {"model", i.model},
-              {"displayName", i.display_name},
-              {"deviceName", i.device_name},
-              {"softwareVersion", i.software_version},
-              {"serial", i.serial},
-              {"ip", i.ip},
-              {"mask", i.mask},
-              {"bind", i.bind},
-              {"ports", ports},
-              {"stateDir", i.state_dir},
-              {"scripting", scripting},
-              {"clock", {{"mode", clock.mode}, {"scale", scale_json(clock.scale)}}},
-              // docs/lint.md §5: the master lint's mode and whether its timing rules judge
-              {"lint",
-               {{"mode", lint::to_string(device_.lint().engine().config().mode)},
-                {"timing", device_.lint().engine().config().timing}}}};
+  json doc{{"emulator", "mcemu"},
+           {"personality", personality.name},
+           {"version", i.version},
+           {"model", i.model},
+           {"displayName", i.display_name},
+           {"deviceName", i.device_name},
+           {"softwareVersion", i.software_version},
+           {"serial", i.serial}};
+  // The drive's own IP address and mask (5007h/5008h, --ip): a drive without them — a FAULHABER MC,
+  // reached over RS232 — has none, and "bind"/"ports" say where mcemu listens for it.
+  if (device_.od().find(od::k_ip_address, 1)) doc["ip"] = i.ip;
+  if (device_.od().find(od::k_ip_mask, 1)) doc["mask"] = i.mask;
+  doc.update(json{{"bind", i.bind},
+                  {"ports", ports},
+                  {"stateDir", i.state_dir},
+                  {"scripting", scripting},
+                  {"clock", {{"mode", clock.mode}, {"scale", scale_json(clock.scale)}}},
+                  // docs/lint.md §5: the master lint's mode and whether its timing rules judge
+                  {"lint",
+                   {{"mode", lint::to_string(device_.lint().engine().config().mode)},
+                    {"timing", device_.lint().engine().config().timing}}}});
+  return doc;
 }
 
 std::string Router::info_text() const { return dump_json(info_json()); }

@@ -5,6 +5,7 @@
 #include "sim/clock_mode.hpp"
 #include "web/api/http_util.hpp"
 #include "web/api/router.hpp"
+#include "web/api/status.hpp"
 #include "web/api/trace_export.hpp"
 
 namespace mcemu::web::api {
@@ -120,6 +121,15 @@ void Router::get_scope(const Ctx& c) {
 }
 
 void Router::get_led(const Ctx& c) {
+  // A FAULHABER MC has no Morse-coded STATUS LED (morse-led.md) but one bicolour status LED: its
+  // state as the status snapshot's "led" gives it (status.hpp fh_led); no schedule, no edges.
+  if (device_.personality().faulhaber) {
+    const FhLed led = fh_led(device_.core().state());
+    return c.respond(json_response(200, json{{"timeMs", device_.core().time_ms()},
+                                             {"personality", device_.personality().name},
+                                             {"color", led.color},
+                                             {"blink", led.blink}}));
+  }
   if (!services_.led) return c.respond(unavailable("LED model not available in this version"));
   const auto q = c.req.target.find('?');
   c.respond(services_.led(q == std::string::npos ? std::string_view() : std::string_view(c.req.target).substr(q + 1)));

@@ -178,7 +178,7 @@ const std::vector<Router::Route>& Router::routes() {
        &Router::get_scope},
       {{M::get,
         "/api/v1/led",
-        "LED state and Morse schedule (morse-led.md §6.2)",
+        "LED state and Morse schedule (morse-led.md §6.2); a FAULHABER drive: its status LED",
         {{"fromMs", "integer", "with toMs: also the exact green edges in [fromMs, toMs] (≤ 600 000 ms)"},
          {"toMs", "integer", "end of the greenEdges window"}},
         "",

@@ -551,5 +551,33 @@ TEST(Port, DefaultsWithoutThe2400Entries) {
   EXPECT_EQ(hex_of(s->take_output()), frame_hex(boot_message(1, "")));
 }
 
+// The trace channel's line of each kind of event (server/drive_listeners.cpp records it), built in
+// the caller's buffer: once it has grown, a stream of frames reuses it.
+TEST(TraceLine, EveryKindAndTheBufferIsReused) {
+  using K = TraceEvent::Kind;
+  const struct {
+    TraceEvent e;
+    const char* want;
+  } rows[] = {
+      {{K::rx, "53 07 01 01 41 60 00 73 45", "SDO read 6041.00"}, "53 07 01 01 41 60 00 73 45 | SDO read 6041.00"},
+      {{K::tx, "53 05 01 04 00 55 45", "controlword ok"}, "53 05 01 04 00 55 45 | controlword ok"},
+      {{K::dropped, "53 03", "length 3 < 4"}, "dropped 53 03 | length 3 < 4"},
+      {{K::ignored, "", "node 2, not 1"}, "ignored node 2, not 1"},
+      {{K::event, "", "closing: queue overflow"}, "closing: queue overflow"},
+      {{K::rx, "53 04 01 00 50 45", ""}, "53 04 01 00 50 45"},
+  };
+  std::string out = "left over from before";
+  for (const auto& r : rows) {
+    trace_line(r.e, out);
+    EXPECT_EQ(out, r.want);
+  }
+  out.reserve(256);
+  const char* buffer = out.data();
+  const auto capacity = out.capacity();
+  for (const auto& r : rows) trace_line(r.e, out);
+  EXPECT_EQ(out.data(), buffer) << "the buffer is reused, not replaced";
+  EXPECT_EQ(out.capacity(), capacity);
+}
+
 }  // namespace
 }  // namespace mcemu::faulhaber
