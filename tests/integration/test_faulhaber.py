@@ -609,6 +609,9 @@ class Fleets(unittest.TestCase):
                 self.assertEqual(m.drives[2]["faulhaber"], ("127.0.0.1", base + 10))
                 a, b = fc.open_tcp(base), fc.open_tcp(base + 10)
                 try:
+                    # as a host does after power-on: wait for Switch on disabled (on a loaded machine
+                    # drive 1 may still be initialising when the process reports ready)
+                    wait_for(lambda: a.statusword() == 0x40 and b.statusword() == 0x40, what="Switch on disabled")
                     a.controlword(0x06)
                     self.assertEqual(a.statusword(), 0x21)
                     self.assertEqual(b.statusword(), 0x40, "drive 2 is its own drive")

@@ -3,6 +3,7 @@
 #include "server/fleet.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <fstream>
 
@@ -107,7 +108,10 @@ TEST(Fleet, Refusals) {
 }
 
 Settings with_fleet(const json& fleet, std::vector<std::string> more = {}) {
-  const std::string path = ::testing::TempDir() + "fleet_test.json";
+  // one file per test and process: ctest -j runs the tests of this file side by side
+  const std::string path = ::testing::TempDir() + "fleet_test_" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                           std::to_string(::getpid()) + ".json";
   std::ofstream(path) << fleet.dump();
   std::vector<std::string> args = {"--fleet", path};
   args.insert(args.end(), more.begin(), more.end());

@@ -189,6 +189,20 @@ TEST(FhStatus, InputsFaultAndBasicReachTheSnapshot) {
   EXPECT_EQ(s["errorWord"], 2);
 }
 
+// The snapshot is cached until something it shows changes (issue 26); MC BASIC's state is outside
+// the dictionary and drive time stands still under the manual clock, so a start and a stop must
+// reach the next snapshot by themselves.
+TEST(FhStatus, ProgramStartAndStopReachTheNextSnapshotWithoutAStep) {
+  FhFixture f;
+  f.bundle.step(10);
+  ASSERT_EQ(f.call("PUT", "/api/v1/faulhaber/programs/2", ":Top\r\na = a + 1\r\nGOTO Top\r\n").status, 200);
+  EXPECT_EQ(f.status()["basic"]["running"], 0);
+  ASSERT_EQ(f.call("POST", "/api/v1/faulhaber/programs/2/start", "{}").status, 200);
+  EXPECT_EQ(f.status()["basic"]["running"], 2);
+  ASSERT_EQ(f.call("POST", "/api/v1/faulhaber/stop", "{}").status, 200);
+  EXPECT_EQ(f.status()["basic"]["running"], 0);
+}
+
 TEST(FhPages, EmulatorPageFromItsOwnTemplateEverythingElseRedirected) {
   FhFixture f;
   f.bundle.step(10);

@@ -317,9 +317,19 @@ std::string status_json(const StatusInputs& in, std::uint64_t seq) {
 }
 
 std::string StatusSnapshots::build(const StatusInputs& in) {
-  const Key key{
-      in.od.generation(), in.time_ms,       in.state, in.velocity_inc_s,    in.temperature_available, in.python,
-      in.refgo,           in.udp_listeners, in.led,   str(in.od, 0x3500, 1)};
+  const Key key{in.od.generation(),
+                in.time_ms,
+                in.state,
+                in.velocity_inc_s,
+                in.temperature_available,
+                in.python,
+                in.refgo,
+                in.udp_listeners,
+                in.led,
+                str(in.od, 0x3500, 1),
+                in.faulhaber,
+                in.input_count,
+                in.output_count};
   if (!key_ || !(*key_ == key)) {
     // The body with a seq no snapshot has, split around it: a later snapshot only splices its seq in.
     constexpr std::uint64_t k_marker = 0xFFFFFFFFFFFFFFFFULL;

@@ -88,6 +88,7 @@ struct FaulhaberStatus {
   std::optional<std::uint32_t> basic_line;    // its running line
   int basic_autostart = 0;                    // the autostart slot, 0 = none
   std::optional<std::int64_t> temperature_c;  // the drive's temperature, °C (the MC has no 3401h)
+  bool operator==(const FaulhaberStatus&) const = default;
 };
 
 // The bicolour status LED of the MC (web/README.md "FAULHABER drive", mcemu's choice): green steady
@@ -162,7 +163,10 @@ class StatusSnapshots {
     RefgoStatus refgo{};
     int udp_listeners = 0;
     LedStatus led{};
-    std::string script_id;  // 3500h.01 is a read hook (the engine's script), no stored value
+    std::string script_id;                     // 3500h.01 is a read hook (the engine's script), no stored value
+    std::optional<FaulhaberStatus> faulhaber;  // MC BASIC's state lives outside the dictionary
+    int input_count = 0;
+    int output_count = 0;
     bool operator==(const Key&) const = default;
   };
   std::uint64_t seq_ = 0;
