@@ -47,12 +47,19 @@ def status_kib(pid, key):
 class Fleet:
     def __init__(self, n, clock="real"):
         self.state = tempfile.TemporaryDirectory(prefix="fleet-bench-")
-        self.log = open(os.path.join(self.state.name, "log"), "w+")
+        # The child writes through its own descriptor, opened for appending; the log is read through
+        # a second one. One shared descriptor (as before) shares one file offset: a seek(0) for
+        # reading made the child's next line overwrite the start of the log — the 997 or 998
+        # "listening" lines of 1000 drives (issue 26).
+        log_path = os.path.join(self.state.name, "log")
+        child_log = open(log_path, "ab")
+        self.log = open(log_path, "r")
         t0 = time.monotonic()
         self.proc = subprocess.Popen([BINARY, "--drives", str(n), "--refgo-port", "0", "--slcan-port", "0",
                                       "--http-port", "0", "--udp-port", "0", "--state-dir", self.state.name,
                                       "--clock", clock, "--max-clients", "8"],
-                                     stdout=self.log, stderr=subprocess.STDOUT)
+                                     stdout=child_log, stderr=subprocess.STDOUT)
+        child_log.close()
         self.http = {}
         try:
             self._wait_ready(n, t0)
