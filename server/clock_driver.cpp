@@ -42,7 +42,7 @@ sim::ClockLogic::Wall ClockDriver::now() const {
 void ClockDriver::start() {
   running_ = true;
   epoch_ = clock::now();
-  logic_.start(now());
+  logic_.start(now(), true);  // the drive initialised before "ready" is logged (real and scaled time)
   reschedule(logic_.plan());
 }
 

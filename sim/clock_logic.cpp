@@ -9,10 +9,11 @@ constexpr std::uint64_t k_longest_sleep_ticks = 1'000'000'000'000;  // about 31 
 
 }  // namespace
 
-void ClockLogic::start(Wall now) {
+void ClockLogic::start(Wall now, bool first_step_due) {
   epoch_ = now;
   ticks_ = 0;
   behind_ = 0;
+  if (first_step_due && mode_.kind != ClockMode::Kind::manual) epoch_ = now - (due_at(1) - now);
 }
 
 // long double: exact for the nanosecond counts of any realistic uptime (64-bit mantissa)

@@ -44,7 +44,11 @@ class ClockLogic {
       : target_(target), mode_(mode), clock_(std::move(clock)) {}
 
   const ClockMode& mode() const { return mode_; }
-  void start(Wall now);
+  // `first_step_due` (real and scaled time in the server): the first step is due at `now` instead of
+  // one step later, so the drive's power-on initialisation (Not ready to switch on → Switch on
+  // disabled, its first step) is done before any client is served, as on a real drive that answers.
+  // Ignored under the manual clock, whose steps wait for an advance.
+  void start(Wall now, bool first_step_due = false);
 
   // A wake-up (timer, post, client): run what is due, then say when to come back.
   Next on_wake(Wall now);

@@ -70,6 +70,32 @@ TEST(ClockLogic, RealTimeRunsOneStepPerElapsedMillisecond) {
   EXPECT_EQ(next.at, ms(1007));
 }
 
+// The server starts real and scaled clocks with the first step due at once: a client served right
+// after "ready" finds the drive past its power-on step (Not ready to switch on → Switch on disabled).
+TEST(ClockLogic, FirstStepDueAtStartWhenAsked) {
+  for (const double scale : {1.0, 2.0, 0.5}) {
+    FakeTarget f;
+    f.busy = true;
+    sim::ClockMode mode;
+    mode.scale = scale;
+    if (scale != 1.0) mode.kind = sim::ClockMode::Kind::scaled;
+    sim::ClockLogic c(f, mode);
+    c.start(ms(1000), true);
+    (void)c.sync(ms(1000));
+    EXPECT_EQ(f.t, 1u) << "scale " << scale;
+    const auto next = c.on_wake(ms(1000 + 1 / scale));  // one step's wall time later: the second
+    EXPECT_EQ(f.t, 2u) << "scale " << scale;
+    EXPECT_EQ(next.at, ms(1000 + 2 / scale)) << "scale " << scale;
+  }
+  FakeTarget manual;
+  sim::ClockMode m;
+  m.kind = sim::ClockMode::Kind::manual;
+  sim::ClockLogic c(manual, m);
+  c.start(ms(1000), true);
+  (void)c.sync(ms(5000));
+  EXPECT_EQ(manual.t, 0u) << "the manual clock waits for an advance";
+}
+
 TEST(ClockLogic, BehindItRunsAtMost50FullStepsPerWakeUp) {
   FakeTarget f;
   f.busy = true;
