@@ -31,6 +31,17 @@ constexpr auto k_probe_wait_ms = 5000;
 
 std::string errno_text(const char* what) { return std::string(what) + ": " + std::strerror(errno); }
 
+// One argument comparison of a rule; libseccomp's SCMP_A0… macros are C compound literals, which
+// clang's -Wpedantic refuses in C++.
+scmp_arg_cmp arg_cmp(unsigned int arg, scmp_compare op, scmp_datum_t a, scmp_datum_t b) {
+  scmp_arg_cmp c{};
+  c.arg = arg;
+  c.op = op;
+  c.datum_a = a;
+  c.datum_b = b;
+  return c;
+}
+
 // One filter, default allow, with `rules` → ERRNO; the BPF program as bytes. Empty with `why` on
 // failure. A name the architecture does not have is skipped (fork on aarch64…).
 std::string compile(std::span<const SyscallRule> rules, std::string& why) {
@@ -48,13 +59,13 @@ std::string compile(std::span<const SyscallRule> rules, std::string& why) {
     switch (r.when) {
       case When::always: rc = seccomp_rule_add(ctx, action, nr, 0); break;
       case When::clone_without_thread:
-        rc = seccomp_rule_add(ctx, action, nr, 1, SCMP_A0(SCMP_CMP_MASKED_EQ, CLONE_THREAD, 0));
+        rc = seccomp_rule_add(ctx, action, nr, 1, arg_cmp(0, SCMP_CMP_MASKED_EQ, CLONE_THREAD, 0));
         break;
       case When::clone_namespace:
-        rc = seccomp_rule_add(ctx, action, nr, 1, SCMP_A0(SCMP_CMP_MASKED_EQ, r.arg, r.arg));
+        rc = seccomp_rule_add(ctx, action, nr, 1, arg_cmp(0, SCMP_CMP_MASKED_EQ, r.arg, r.arg));
         break;
       case When::ioctl_request:
-        rc = seccomp_rule_add(ctx, action, nr, 1, SCMP_A1(SCMP_CMP_MASKED_EQ, 0xFFFFFFFFU, r.arg));
+        rc = seccomp_rule_add(ctx, action, nr, 1, arg_cmp(1, SCMP_CMP_MASKED_EQ, 0xFFFFFFFFU, r.arg));
         break;
     }
     // -EOPNOTSUPP/-EDOM: a pseudo syscall of another architecture; anything else is a real failure
