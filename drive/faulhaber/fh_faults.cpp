@@ -28,9 +28,33 @@ constexpr std::array<FhFault, k_fault_cause_count> k_table = {{
     {C::sensor_warning, 0x0000, -1, 0x00},
 }};
 
+struct CodeName {
+  std::uint16_t code;
+  std::string_view name;
+};
+constexpr std::array<CodeName, 10> k_names{{
+    {0x2300, "current error"},
+    {0x3210, "over-voltage"},
+    {0x3220, "under-voltage"},
+    {0x4310, "temperature error"},
+    {k_temperature_warning_code, "temperature warning"},
+    {0x5000, "internal hardware error"},
+    {0x7300, "encoder error"},
+    {0x8130, "communication error"},
+    {0x8611, "following error"},
+    {0xFF00, "safety monitor"},
+}};
+
 }  // namespace
 
 const FhFault& fh_fault(FaultCause cause) { return k_table[static_cast<std::size_t>(cause)]; }
+
+std::string_view error_name(std::uint16_t code) {
+  for (const auto& n : k_names) {
+    if (n.code == code) return n.name;
+  }
+  return "unknown";
+}
 
 std::uint16_t error_word(std::uint32_t fault_bits, bool temperature_warning) {
   std::uint16_t word = temperature_warning ? std::uint16_t{1u << k_temperature_warning_bit} : std::uint16_t{0};

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string_view>
 
 #include "drive/core_types.hpp"
 
@@ -26,6 +27,9 @@ inline constexpr std::uint8_t k_temperature_warning_reg = 0x03;
 inline constexpr std::int64_t k_temperature_warning_deg_c = 100;
 
 const FhFault& fh_fault(FaultCause cause);
+// The name of a FAULHABER EMCY code (faulhaber.md §7.3; mcemu's words, after the 2320h bit it goes
+// with): "following error" for 8611h; "unknown" for a code the table does not have.
+std::string_view error_name(std::uint16_t code);
 // 2320h for the core's 1002h-layout fault bits (bits 0–13; warnings ignored) and the warning.
 std::uint16_t error_word(std::uint32_t fault_bits, bool temperature_warning);
 // 1001h for the same: OR of the raised causes' register bytes and the warning's.

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "drive/faulhaber/fh_faults.hpp"
 #include "drive/faults.hpp"
 #include "drive/od/objects.hpp"
 #include "protocols/refgo/status.hpp"
@@ -17,26 +18,8 @@ using nlohmann::json;
 
 namespace {
 
-// The EMCY codes of a FAULHABER drive (faulhaber.md §7.3; names in mcemu's words, after the bits
-// of the error word 2320h they go with).
-constexpr std::array<ErrorName, 10> k_fh_error_names{{
-    {0x2300, "current error"},
-    {0x3210, "over-voltage"},
-    {0x3220, "under-voltage"},
-    {0x4310, "temperature error"},
-    {0x43F0, "temperature warning"},
-    {0x5000, "internal hardware error"},
-    {0x7300, "encoder error"},
-    {0x8130, "communication error"},
-    {0x8611, "following error"},
-    {0xFF00, "safety monitor"},
-}};
-
 std::string fh_last_error_text(std::uint16_t code) {
-  for (const auto& e : k_fh_error_names) {
-    if (e.code == code) return h4(code) + " / " + std::string(e.name);
-  }
-  return h4(code) + " / unknown";
+  return h4(code) + " / " + std::string(core::faulhaber::error_name(code));
 }
 
 std::int64_t num(const od::ObjectDictionary& od, std::uint16_t index, std::uint8_t sub, std::int64_t fallback = 0) {

@@ -54,6 +54,19 @@ TEST(FhFaults, WordAndRegisterCombineTheRaisedCauses) {
   EXPECT_EQ(error_word(bit_of(FaultCause::over_temperature) | bit_of(FaultCause::i2t), true), 0x0030);
 }
 
+// Every code the table sends has a name; the web status and the footer show it (one table).
+TEST(FhFaults, EveryCodeSentHasAName) {
+  for (int c = 0; c < static_cast<int>(k_fault_cause_count); ++c) {
+    const auto code = fh_fault(static_cast<FaultCause>(c)).code;
+    if (code != 0) {
+      EXPECT_NE(error_name(code), "unknown") << std::hex << code;
+    }
+  }
+  EXPECT_EQ(error_name(0x8611), "following error");
+  EXPECT_EQ(error_name(k_temperature_warning_code), "temperature warning");
+  EXPECT_EQ(error_name(0x1234), "unknown");
+}
+
 TEST(FhFaults, EmcyDataIsTheErrorWordLittleEndianThenZeros) {
   EXPECT_EQ(emcy_data(0x0004), (std::array<std::uint8_t, 5>{0x04, 0x00, 0, 0, 0}));
   EXPECT_EQ(emcy_data(0x4102), (std::array<std::uint8_t, 5>{0x02, 0x41, 0, 0, 0}));
