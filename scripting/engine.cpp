@@ -54,6 +54,16 @@ std::map<std::string, ProbeOutcome>& probe_cache() {
   static std::map<std::string, ProbeOutcome> cache;
   return cache;
 }
+// The probes started and not yet read, by the same key: every engine whose timer fires before the
+// first answer is read shares them instead of starting python3 and bwrap once more.
+struct ProbesInFlight {
+  std::shared_ptr<PythonProbe> python;
+  std::shared_ptr<SandboxProbe> sandbox;
+};
+std::map<std::string, ProbesInFlight>& probes_in_flight() {
+  static std::map<std::string, ProbesInFlight> flights;
+  return flights;
+}
 std::string probe_key(const EngineSettings& s) {
   return s.python + '\n' + s.bwrap + '\n' + (s.sandbox ? "s" : "-") + (s.unsafe_scripts ? "u" : "-");
 }
@@ -120,10 +130,13 @@ ScriptEngine::ScriptEngine(asio::io_context& io, od::ObjectDictionary& od, core:
 }
 
 void ScriptEngine::start_probe() const {
-  if (probed_ || probe_cache().count(probe_key(settings_))) return;
-  if (!probe_) probe_ = std::make_unique<PythonProbe>(settings_.python);
-  if (settings_.sandbox && !sandbox_probe_)
-    sandbox_probe_ = std::make_unique<SandboxProbe>(settings_.bwrap, settings_.python);
+  if (probed_ || probe_ || probe_cache().count(probe_key(settings_))) return;
+  auto& flight = probes_in_flight()[probe_key(settings_)];
+  if (!flight.python) flight.python = std::make_shared<PythonProbe>(settings_.python);
+  if (settings_.sandbox && !flight.sandbox)
+    flight.sandbox = std::make_shared<SandboxProbe>(settings_.bwrap, settings_.python);
+  probe_ = flight.python;
+  sandbox_probe_ = flight.sandbox;
 }
 
 void ScriptEngine::resolve_probe() const {
@@ -159,6 +172,7 @@ void ScriptEngine::resolve_probe() const {
       spdlog::warn("script engine unavailable: {}; scripts cannot run", why);
     }
     cached = probe_cache().emplace(key, std::move(o)).first;
+    probes_in_flight().erase(key);  // the engines that shared them drop their share below
   }
   probed_ = true;
   const ProbeOutcome& o = cached->second;

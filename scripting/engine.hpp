@@ -188,8 +188,10 @@ class ScriptEngine {
   trace::Ring* trace_;
   void start_probe() const;
   void resolve_probe() const;
-  mutable std::unique_ptr<PythonProbe> probe_;  // from its start until its answer is read
-  mutable std::unique_ptr<SandboxProbe> sandbox_probe_;
+  // From its start until its answer is read; shared by every engine of the process with the same
+  // settings (a fleet of 1000 drives starts one probe, not 1000).
+  mutable std::shared_ptr<PythonProbe> probe_;
+  mutable std::shared_ptr<SandboxProbe> sandbox_probe_;
   mutable bool probed_ = false;
   mutable bool available_ = false;
   mutable bool sandboxed_ = false;
