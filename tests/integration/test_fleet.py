@@ -132,6 +132,23 @@ class DrivesFlag(unittest.TestCase):
                 "--udp-port", str(chosen[3])]
 
 
+class ScriptEngineProbe(unittest.TestCase):
+    def test_one_probe_for_the_whole_fleet(self):
+        """The script engine's availability probe (python3, and bwrap for the sandbox) runs once per
+        process, about 1 s after start, however many drives there are: a probe per drive cost a
+        1000-drive fleet 1000 python3 starts."""
+        with Mcemu("--drives", "20") as m:
+            most = 0
+            deadline = time.monotonic() + 4.0
+            while time.monotonic() < deadline:
+                with open(f"/proc/{m.proc.pid}/task/{m.proc.pid}/children") as f:
+                    most = max(most, len(f.read().split()))
+                time.sleep(0.02)
+            self.assertLessEqual(most, 2, "python3 and bwrap once, not once per drive")
+            wait_for(lambda: m.has_line("script engine"), what="the script engine's verdict")
+            self.assertEqual(m.count_lines("script engine"), 1, "one verdict logged")
+
+
 class FleetFile(unittest.TestCase):
     def test_mixed_models(self):
         with tempfile.TemporaryDirectory(prefix="mcemu-fleet-") as tmp:
