@@ -5,6 +5,7 @@ import { MorseDecoder } from '../led.js';
 import { api, describe } from '../api.js';
 import { $, action, element, parseNumber, reportError, showResult } from '../ui.js';
 import { startLog } from './emulator-log.js';
+import { plantControls } from '../plant-controls.js';
 
 const { live, leds, pageData } = boot({ topics: ['trace', 'udp'] });
 
@@ -164,7 +165,7 @@ async function loadInjections() {
   });
   if (!rows.length) rows.push(element('tr', {}, element('td', { colspan: '4', class: 'hint', text: 'none' })));
   $('emu-injections').tBodies[0].replaceChildren(...rows);
-  syncPlant();
+  plant.sync(injections);
 }
 action($('emu-remove-all'), async () => {
   await api.del('/api/v1/faults');
@@ -211,54 +212,14 @@ async function pollIo() {
 pollIo();
 
 // ---- plant: supply and ambient as injections of their kind (one at a time), load, stops
-const supply = pageData.supply || { nominalV: 48, underV: 18, overV: 60 };
-$('emu-supply').max = String(Math.ceil(supply.overV + 10));
+const plant = plantControls({
+  prefix: 'emu',
+  supply: pageData.supply || { nominalV: 48, underV: 18, overV: 60 },
+  result: $('emu-plant-result'),
+  reload: () => loadInjections(),
+});
 const plantResult = $('emu-plant-result');
-const SLIDERS = {
-  'drive.supply': { input: $('emu-supply'), out: $('emu-supply-value'), field: 'volts', unit: 'V', nominal: supply.nominalV },
-  'drive.ambient': { input: $('emu-ambient'), out: $('emu-ambient-value'), field: 'celsius', unit: '°C', nominal: 25 },
-};
-// Replaces the active injections of `kind` by one with `fields` (or none). One replacement at a
-// time, each from the server's current list, so that quick slider moves leave exactly one.
-let replacing = Promise.resolve();
-function replaceInjection(kind, fields) {
-  const run = async () => {
-    const old = (await api.get('/api/v1/faults')).faults.filter((f) => f.kind === kind);
-    if (fields) await api.post('/api/v1/faults', { kind, ...fields });
-    for (const f of old) await api.del(`/api/v1/faults/${f.id}`);
-    await loadInjections();
-  };
-  const done = replacing.then(run, run);
-  replacing = done.catch(() => {});
-  return done;
-}
-let sliderBusy = false;
-function syncPlant() {
-  if (sliderBusy) return;
-  for (const [kind, s] of Object.entries(SLIDERS)) {
-    const f = injections.find((x) => x.kind === kind);
-    const v = f ? f[s.field] : s.nominal;
-    if (document.activeElement !== s.input) s.input.value = String(v);
-    s.out.value = `${v} ${s.unit}${f ? '' : ' (nominal)'}`;
-  }
-}
-for (const [kind, s] of Object.entries(SLIDERS)) {
-  s.input.addEventListener('input', () => (s.out.value = `${s.input.value} ${s.unit}`));
-  s.input.addEventListener('change', async () => {
-    sliderBusy = true;
-    try {
-      await replaceInjection(kind, { [s.field]: Number(s.input.value) });
-      showResult(plantResult, true, `${kind} ${s.input.value} ${s.unit}`);
-    } catch (e) {
-      showResult(plantResult, false, describe(e));
-    } finally {
-      sliderBusy = false;
-      syncPlant();
-    }
-  });
-}
-action($('emu-supply-reset'), async () => (await replaceInjection('drive.supply', null), `supply back to nominal (${supply.nominalV} V)`), plantResult);
-action($('emu-ambient-reset'), async () => (await replaceInjection('drive.ambient', null), 'ambient back to 25 °C'), plantResult);
+const replaceInjection = plant.replaceInjection;
 action($('emu-load-apply'), async () => {
   const value = Number($('emu-load').value);
   await replaceInjection('drive.load', value === 0 ? null : { value });

@@ -6,6 +6,7 @@ import { api, describe } from '../api.js';
 import { $, action, element, h4, hex, parseNumber, reportError, showResult } from '../ui.js';
 import { objectBrowser } from '../objects.js';
 import { startLog } from './emulator-log.js';
+import { plantControls } from '../plant-controls.js';
 import { startBasic } from './faulhaber-basic.js';
 
 const { live, pageData } = boot({ topics: ['trace'] });
@@ -142,7 +143,7 @@ async function loadInjections() {
   });
   if (!rows.length) rows.push(element('tr', {}, element('td', { colspan: '4', class: 'hint', text: 'none' })));
   $('fh-injections').tBodies[0].replaceChildren(...rows);
-  syncPlant();
+  plant.sync(injections);
 }
 action($('fh-remove-all'), async () => {
   await api.del('/api/v1/faults');
@@ -153,52 +154,13 @@ setInterval(loadInjections, 1000);
 loadInjections();
 
 // Supply and ambient as one injection of their kind each (a move replaces it), and stops.
-const supply = pageData.supply || { nominalV: 48, underV: 18, overV: 60 };
-$('fh-supply').max = String(Math.ceil(supply.overV + 10));
+const plant = plantControls({
+  prefix: 'fh',
+  supply: pageData.supply || { nominalV: 48, underV: 18, overV: 60 },
+  result: $('fh-plant-result'),
+  reload: () => loadInjections(),
+});
 const plantResult = $('fh-plant-result');
-const SLIDERS = {
-  'drive.supply': { input: $('fh-supply'), out: $('fh-supply-value'), field: 'volts', unit: 'V', nominal: supply.nominalV },
-  'drive.ambient': { input: $('fh-ambient'), out: $('fh-ambient-value'), field: 'celsius', unit: '°C', nominal: 25 },
-};
-let replacing = Promise.resolve();
-function replaceInjection(kind, fields) {
-  const run = async () => {
-    const old = (await api.get('/api/v1/faults')).faults.filter((f) => f.kind === kind);
-    if (fields) await api.post('/api/v1/faults', { kind, ...fields });
-    for (const f of old) await api.del(`/api/v1/faults/${f.id}`);
-    await loadInjections();
-  };
-  const done = replacing.then(run, run);
-  replacing = done.catch(() => {});
-  return done;
-}
-let sliderBusy = false;
-function syncPlant() {
-  if (sliderBusy) return;
-  for (const [kind, s] of Object.entries(SLIDERS)) {
-    const f = injections.find((x) => x.kind === kind);
-    const v = f ? f[s.field] : s.nominal;
-    if (document.activeElement !== s.input) s.input.value = String(v);
-    s.out.value = `${v} ${s.unit}${f ? '' : ' (nominal)'}`;
-  }
-}
-for (const [kind, s] of Object.entries(SLIDERS)) {
-  s.input.addEventListener('input', () => (s.out.value = `${s.input.value} ${s.unit}`));
-  s.input.addEventListener('change', async () => {
-    sliderBusy = true;
-    try {
-      await replaceInjection(kind, { [s.field]: Number(s.input.value) });
-      showResult(plantResult, true, `${kind} ${s.input.value} ${s.unit}`);
-    } catch (e) {
-      showResult(plantResult, false, describe(e));
-    } finally {
-      sliderBusy = false;
-      syncPlant();
-    }
-  });
-}
-action($('fh-supply-reset'), async () => (await replaceInjection('drive.supply', null), `supply back to nominal (${supply.nominalV} V)`), plantResult);
-action($('fh-ambient-reset'), async () => (await replaceInjection('drive.ambient', null), 'ambient back to 25 °C'), plantResult);
 action($('fh-stop-add'), async () => {
   const positionInc = parseNumber($('fh-stop-pos').value);
   if (positionInc === null) throw new Error('stop position: not a number');
