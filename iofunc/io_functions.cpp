@@ -249,11 +249,13 @@ DriveSnapshot IoFunctions::snapshot() const {
 }
 
 void IoFunctions::update_outputs() {
-  const DriveSnapshot s = snapshot();
+  // The snapshot (~25 reads) only when an output function owns an output: most drives have none.
+  std::optional<DriveSnapshot> s;
   std::uint32_t levels = 0;
   for (std::size_t k = 0; k < h_.out.size(); ++k) {
-    const OutputConfig c = output_config(k);
-    if (c.function != 0 && output_level(c, static_cast<int>(k + 1), s, core_.scaling())) levels |= output_bit(k);
+    if (num(h_.out[k].function) == 0) continue;
+    if (!s) s = snapshot();
+    if (output_level(output_config(k), static_cast<int>(k + 1), *s, core_.scaling())) levels |= output_bit(k);
   }
   levels_ = levels;
   write_outputs();

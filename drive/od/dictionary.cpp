@@ -9,6 +9,15 @@ namespace {
 
 bool same(const Value& a, const Value& b) { return a == b; }
 
+std::int64_t number_of(const Value& v) {
+  return std::holds_alternative<std::int64_t>(v) ? std::get<std::int64_t>(v) : 0;
+}
+constexpr std::uint32_t key_of(std::uint16_t index, std::uint8_t sub) { return std::uint32_t{index} << 8 | sub; }
+// Fibonacci hashing of a key onto a slot of a power-of-two table.
+constexpr std::size_t slot_of(std::uint32_t key, std::size_t mask) {
+  return static_cast<std::size_t>((std::uint64_t{key} * 0x9E3779B97F4A7C15ull) >> 40) & mask;
+}
+
 std::int64_t decode_le(std::span<const std::byte> data, DataType type) {
   const std::size_t n = size_of(type);
   std::uint64_t raw = 0;
@@ -87,8 +96,12 @@ void ObjectDictionary::install_error_history_rule() {
 
 void ObjectDictionary::build_index() {
   objects_.clear();
+  numbers_.resize(entries_.size());
+  keys_.resize(entries_.size());
   for (std::uint32_t i = 0; i < entries_.size(); ++i) {
     const auto& e = entries_[i].info;
+    numbers_[i] = number_of(entries_[i].value);
+    keys_[i] = key_of(e.index, e.sub);
     if (i > 0 && entries_[i - 1].info.index == e.index) {
       if (entries_[i - 1].info.sub == e.sub) throw std::logic_error("duplicate OD entry");
       ++objects_.back().count;
@@ -96,19 +109,26 @@ void ObjectDictionary::build_index() {
       objects_.push_back({e.index, i, 1});
     }
   }
+  if (entries_.size() >= 0xFFFF) throw std::logic_error("too many OD entries for the slot table");
+  std::size_t size = 16;
+  while (size < 2 * entries_.size()) size *= 2;
+  slots_.assign(size, 0);
+  for (std::uint32_t h = 0; h < keys_.size(); ++h) {
+    std::size_t i = slot_of(keys_[h], size - 1);
+    while (slots_[i] != 0) i = (i + 1) & (size - 1);
+    slots_[i] = static_cast<std::uint16_t>(h + 1);
+  }
 }
 
 Result<Handle> ObjectDictionary::locate(std::uint16_t index, std::uint8_t sub) const {
-  auto it = std::lower_bound(objects_.begin(), objects_.end(), index,
-                             [](const ObjectSlot& s, std::uint16_t i) { return s.index < i; });
-  if (it == objects_.end() || it->index != index) return AbortCode::no_object;
-  const auto first = entries_.begin() + it->first;
-  const auto last = first + it->count;
-  auto e = std::lower_bound(first, last, sub, [](const Entry& en, std::uint8_t s) { return en.info.sub < s; });
-  if (e == last || e->info.sub != sub) return AbortCode::no_sub;
-  return static_cast<Handle>(e - entries_.begin());
+  const std::uint32_t key = key_of(index, sub);
+  const std::size_t mask = slots_.size() - 1;
+  for (std::size_t i = slot_of(key, mask); slots_[i] != 0; i = (i + 1) & mask) {
+    const Handle h = slots_[i] - 1u;
+    if (keys_[h] == key) return h;
+  }
+  return has_object(index) ? AbortCode::no_sub : AbortCode::no_object;
 }
-
 std::optional<Handle> ObjectDictionary::find(std::uint16_t index, std::uint8_t sub) const {
   auto r = locate(index, sub);
   if (!r) return std::nullopt;
@@ -131,11 +151,6 @@ bool ObjectDictionary::has_object(std::uint16_t index) const {
 const EntryInfo* ObjectDictionary::info(std::uint16_t index, std::uint8_t sub) const {
   auto r = locate(index, sub);
   return r ? &entries_[*r].info : nullptr;
-}
-
-std::int64_t ObjectDictionary::number(Handle h) const {
-  const Value& v = entries_[h].value;
-  return std::holds_alternative<std::int64_t>(v) ? std::get<std::int64_t>(v) : 0;
 }
 
 Result<Value> ObjectDictionary::read_entry(const Entry& e) const {
@@ -203,6 +218,7 @@ AbortCode ObjectDictionary::check_limits(const Entry& e, std::int64_t v, bool bu
 void ObjectDictionary::store(Entry& e, Value v) {
   if (same(e.value, v)) return;
   e.value = std::move(v);
+  numbers_[static_cast<std::size_t>(&e - entries_.data())] = number_of(e.value);
   ++generation_;
   for (const auto& l : listeners_) l(e.info, e.value);
 }
@@ -350,6 +366,7 @@ std::vector<LoadIssue> ObjectDictionary::load_values(std::span<const StoredValue
     }
     if (!same(e.value, *v)) ++generation_;
     e.value = std::move(*v);
+    numbers_[*h] = number_of(e.value);
   }
   return issues;
 }

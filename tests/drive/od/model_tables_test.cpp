@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 #include "drive/model/model_preset.hpp"
@@ -253,6 +254,34 @@ TEST(ErrorHistory, ZeroClearsAndInternalMayCount) {
   ASSERT_EQ(od.write(0x1003, 0, Value{std::int64_t{0}}, Origin::sdo), AbortCode::none);
   EXPECT_EQ(*od.read_number(0x1003, 0), 0);
   EXPECT_EQ(*od.read_number(0x1003, 1), 0);
+}
+
+// The lookup (a hash of the keys, issue 26) finds every entry at its own handle, and tells an absent
+// sub of an existing object (no_sub) from an absent object (no_object) for every index around each.
+TEST_P(EveryPreset, LookupFindsEveryEntryAndClassifiesTheAbsent) {
+  ObjectDictionary od(preset(GetParam()));
+  std::vector<std::pair<std::uint16_t, std::uint8_t>> keys;
+  od.for_each([&](const EntryInfo& e, const Value&) { keys.emplace_back(e.index, e.sub); });
+  ASSERT_EQ(keys.size(), od.size());
+  for (const auto& [index, sub] : keys) {
+    const auto h = od.find(index, sub);
+    ASSERT_TRUE(h) << std::hex << index << "." << int(sub);
+    EXPECT_EQ(od.info(*h).index, index);
+    EXPECT_EQ(od.info(*h).sub, sub);
+  }
+  const auto present = [&](std::uint16_t index, std::uint8_t sub) {
+    return std::find(keys.begin(), keys.end(), std::pair{index, sub}) != keys.end();
+  };
+  for (const auto& [index, sub] : keys) {
+    for (const std::uint16_t i :
+         {static_cast<std::uint16_t>(index - 1), index, static_cast<std::uint16_t>(index + 1)}) {
+      for (const std::uint8_t s : {std::uint8_t{0}, static_cast<std::uint8_t>(sub + 1), std::uint8_t{0xFF}}) {
+        if (present(i, s)) continue;
+        EXPECT_EQ(od.read(i, s).error(), od.has_object(i) ? AbortCode::no_sub : AbortCode::no_object)
+            << std::hex << i << "." << int(s);
+      }
+    }
+  }
 }
 
 TEST(Presets, UnknownNameAndRabbitSpecifics) {
