@@ -73,7 +73,7 @@ ObjectDictionary::ObjectDictionary(std::vector<EntryInfo> entries) {
   entries_.reserve(entries.size());
   for (auto& info : entries) {
     Value v = info.factory;
-    entries_.push_back(Entry{std::move(info), std::move(v), {}, {}});
+    entries_.push_back(Entry{std::move(info), std::move(v)});
   }
   build_index();
   install_error_history_rule();
@@ -154,8 +154,8 @@ const EntryInfo* ObjectDictionary::info(std::uint16_t index, std::uint8_t sub) c
 }
 
 Result<Value> ObjectDictionary::read_entry(const Entry& e) const {
-  if (!e.read_hook) return e.value;
-  auto r = e.read_hook(e.info);
+  if (e.read_hook == 0 || !read_hooks_[e.read_hook - 1u]) return e.value;
+  auto r = read_hooks_[e.read_hook - 1u](e.info);
   if (!r) return AbortCode::general;
   return r;
 }
@@ -228,12 +228,12 @@ AbortCode ObjectDictionary::commit(Handle h, Value v, Origin origin, Done& done)
   if (std::holds_alternative<std::int64_t>(v)) {
     if (auto c = check_limits(e, std::get<std::int64_t>(v), false); c != AbortCode::none) return c;
   }
-  if (!e.write_hook) {
+  if (e.write_hook == 0 || !write_hooks_[e.write_hook - 1u]) {
     store(e, std::move(v));
     return AbortCode::none;
   }
   WriteRequest req{e.info, origin, e.value, std::move(v), &done};
-  const AbortCode c = e.write_hook(req);
+  const AbortCode c = write_hooks_[e.write_hook - 1u](req);
   if (c != AbortCode::none) return c;
   // The hook may have written other entries (never this vector's layout), so re-index.
   Entry& again = entries_[h];
@@ -330,16 +330,29 @@ AbortCode ObjectDictionary::write_data(std::uint16_t index, std::uint8_t sub, st
   return commit(*h, Value{decode_le(data.first(n), e.info.type)}, origin, done);
 }
 
+namespace {
+// Registers `hook` at the entry's position in `hooks` (1-based in `slot`), or clears it.
+template <class Hook>
+void set_hook(std::deque<Hook>& hooks, std::uint16_t& slot, Hook hook, const char* kind, std::uint16_t index,
+              std::uint8_t sub) {
+  if (slot != 0 && hooks[slot - 1u] && hook) throw std::logic_error(hook_conflict(kind, index, sub));
+  if (slot != 0) {
+    hooks[slot - 1u] = std::move(hook);
+    return;
+  }
+  if (!hook) return;
+  if (hooks.size() >= 0xFFFF) throw std::logic_error("too many OD hooks");
+  hooks.push_back(std::move(hook));
+  slot = static_cast<std::uint16_t>(hooks.size());
+}
+}  // namespace
+
 void ObjectDictionary::on_write(std::uint16_t index, std::uint8_t sub, WriteHook hook) {
-  auto& slot = entries_[handle(index, sub)].write_hook;
-  if (slot && hook) throw std::logic_error(hook_conflict("write", index, sub));
-  slot = std::move(hook);
+  set_hook(write_hooks_, entries_[handle(index, sub)].write_hook, std::move(hook), "write", index, sub);
 }
 
 void ObjectDictionary::on_read(std::uint16_t index, std::uint8_t sub, ReadHook hook) {
-  auto& slot = entries_[handle(index, sub)].read_hook;
-  if (slot && hook) throw std::logic_error(hook_conflict("read", index, sub));
-  slot = std::move(hook);
+  set_hook(read_hooks_, entries_[handle(index, sub)].read_hook, std::move(hook), "read", index, sub);
 }
 
 void ObjectDictionary::on_change(ChangeListener listener) { listeners_.push_back(std::move(listener)); }

@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <optional>
 #include <span>
@@ -175,11 +176,13 @@ class ObjectDictionary {
   std::int64_t number(std::uint16_t index, std::uint8_t sub) const { return number(handle(index, sub)); }
 
  private:
+  // Hooks live beside the entries, only where an entry has behaviour (issue 26): 1-based positions in
+  // write_hooks_/read_hooks_, 0 = none. Deques: a hook may register another while it runs.
   struct Entry {
     EntryInfo info;
     Value value;
-    WriteHook write_hook;
-    ReadHook read_hook;
+    std::uint16_t write_hook = 0;
+    std::uint16_t read_hook = 0;
   };
   struct ObjectSlot {
     std::uint16_t index;
@@ -204,6 +207,8 @@ class ObjectDictionary {
 
   std::vector<Entry> entries_;
   std::vector<ObjectSlot> objects_;
+  std::deque<WriteHook> write_hooks_;
+  std::deque<ReadHook> read_hooks_;
   // The hot side of the entries, by handle (issue 26): an Entry is ~250 bytes, so a step that reads
   // ~100 numbers from entries_ touches ~100 cache lines per drive, and a fleet's drives evict each
   // other's. numbers_[h] mirrors entries_[h].value (0 for strings) and keys_[h] is index << 8 | sub:

@@ -1,8 +1,9 @@
 #include "drive/od/faulhaber_table.hpp"
 
 #include <array>
-#include <set>
 #include <string>
+
+#include "drive/od/validators.hpp"
 
 namespace mcemu::od {
 namespace {
@@ -50,12 +51,6 @@ struct Builder {
     add(index, 0, T::unsigned8, A::ro, C::const_, "Highest Sub-index", Value{highest});
   }
 };
-
-Validator one_of(std::set<std::int64_t> allowed) {
-  return [allowed = std::move(allowed)](const ObjectDictionary&, std::optional<std::int64_t>, std::int64_t v) {
-    return allowed.count(v) ? AbortCode::none : AbortCode::invalid_value;
-  };
-}
 
 void cia301(Builder& b, const model::ModelPreset& p) {
   const auto& id = p.identity;
@@ -119,7 +114,7 @@ void faulhaber_objects(Builder& b) {
   b.begin(0x2400, k_record, "RS232 Settings", 8);
   b.add(0x2400, 0x03, T::unsigned8, A::rw, C::param, "Node-ID", Value{1});
   b.add(0x2400, 0x04, T::unsigned32, A::rw, C::param, "Communication Settings", Value{0x00030000});
-  b.add(0x2400, 0x05, T::unsigned8, A::rw, C::param, "Net Mode", Value{0}).validator = one_of({0, 1});
+  b.add(0x2400, 0x05, T::unsigned8, A::rw, C::param, "Net Mode", Value{0}).validator = one_of<0, 1>();
   b.add(0x2400, 0x08, T::unsigned16, A::rw, C::param, "Explicit Device ID", Value{0});
   b.begin(0x3005, k_array, "Program Variables", 26);
   b.out.back().name = "Number of Variables";
@@ -135,13 +130,13 @@ void cia402(Builder& b, const model::ModelPreset& p) {
   b.var(0x603F, T::unsigned16, A::ro, C::live, "Error Code", 0, tx);
   b.var(0x6040, T::unsigned16, A::rw, C::proc, "Controlword", 0, rx);
   b.var(0x6041, T::unsigned16, A::ro, C::live, "Statusword", 0x0040, tx);
-  b.var(0x605A, T::integer16, A::rw, C::param, "Quick Stop Option Code", 2).validator = one_of({0, 1, 2, 5, 6});
-  b.var(0x605B, T::integer16, A::rw, C::param, "Shutdown Option Code", 1).validator = one_of({0, 1});
-  b.var(0x605C, T::integer16, A::rw, C::param, "Disable Operation Option Code", 1).validator = one_of({0, 1});
-  b.var(0x605D, T::integer16, A::rw, C::param, "Halt Option Code", 1).validator = one_of({0, 1, 2, 3, 4});
-  b.var(0x605E, T::integer16, A::rw, C::param, "Fault Reaction Option Code", 1).validator = one_of({0, 1, 2, 3, 4});
+  b.var(0x605A, T::integer16, A::rw, C::param, "Quick Stop Option Code", 2).validator = one_of<0, 1, 2, 5, 6>();
+  b.var(0x605B, T::integer16, A::rw, C::param, "Shutdown Option Code", 1).validator = one_of<0, 1>();
+  b.var(0x605C, T::integer16, A::rw, C::param, "Disable Operation Option Code", 1).validator = one_of<0, 1>();
+  b.var(0x605D, T::integer16, A::rw, C::param, "Halt Option Code", 1).validator = one_of<0, 1, 2, 3, 4>();
+  b.var(0x605E, T::integer16, A::rw, C::param, "Fault Reaction Option Code", 1).validator = one_of<0, 1, 2, 3, 4>();
   // faulhaber.md §7.2: PP, PV and homing; the other FAULHABER modes answer 0x06090030
-  b.var(0x6060, T::integer8, A::rw, C::proc, "Modes of Operation", 0, rx).validator = one_of({0, 1, 3, 6});
+  b.var(0x6060, T::integer8, A::rw, C::proc, "Modes of Operation", 0, rx).validator = one_of<0, 1, 3, 6>();
   b.var(0x6061, T::integer8, A::ro, C::live, "Modes of Operation Display", 0, tx);
   b.var(0x6062, T::integer32, A::ro, C::live, "Position Demand Value", 0, tx);
   b.var(0x6063, T::integer32, A::ro, C::live, "Position Actual Internal Value", 0, tx);

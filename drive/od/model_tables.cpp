@@ -4,7 +4,7 @@
 
 #include <algorithm>
 #include <array>
-#include <set>
+#include <charconv>
 #include <stdexcept>
 #include <string>
 
@@ -12,6 +12,7 @@
 #include "drive/od/dictionary.hpp"
 #include "drive/od/faulhaber_table.hpp"
 #include "drive/od/tables/xdd_tables.hpp"
+#include "drive/od/validators.hpp"
 
 namespace mcemu::od {
 namespace {
@@ -24,17 +25,25 @@ bool in(std::uint16_t index, std::uint16_t lo, std::uint16_t hi) { return index 
 
 // XDD default text → value ("0x3E8", "-2147483647", "$NODEID+0x600", "CANopen Slave").
 Value parse_default(const tables::XddEntry& x) {
-  const std::string text = x.xdd_default ? x.xdd_default : "";
-  if (is_string(x.type)) return Value{text == "0x0" ? std::string{} : text};
+  const std::string_view text = x.xdd_default ? std::string_view(x.xdd_default) : std::string_view();
+  if (is_string(x.type)) return Value{text == "0x0" ? std::string{} : std::string(text)};
   if (text.empty()) return Value{std::int64_t{0}};
-  std::string t = text;
+  std::string_view t = text;
   std::int64_t add = 0;
-  if (t.rfind("$NODEID+", 0) == 0) {
+  if (t.starts_with("$NODEID+")) {
     add = k_factory_node_id;
-    t = t.substr(8);
+    t.remove_prefix(8);
   }
-  std::int64_t v = (t.rfind("0x", 0) == 0 || t.rfind("0X", 0) == 0) ? std::stoll(t.substr(2), nullptr, 16)
-                                                                    : std::stoll(t, nullptr, 10);
+  int base = 10;
+  if (t.starts_with("0x") || t.starts_with("0X")) {
+    base = 16;
+    t.remove_prefix(2);
+  }
+  std::int64_t v = 0;
+  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v, base);
+  if (ec != std::errc{} || end != t.data() + t.size()) {
+    throw std::logic_error("XDD default \"" + std::string(text) + "\" is not a number");
+  }
   return Value{v + add};
 }
 
@@ -91,12 +100,17 @@ std::string_view python_param_name(std::size_t type, std::uint8_t sub) {
 constexpr std::array<const char*, 4> k_ip_names = {"ip address 1", "ip address 2", "ip address 3", "ip address 4"};
 constexpr std::array<const char*, 4> k_mask_names = {"mask 1", "mask 2", "mask 3", "mask 4"};
 
-void add_extras(std::vector<EntryInfo>& out, const model::ModelPreset& p) {
+// The additions go to `out`; `xdd` is the model's XDD table, sorted by (index, sub).
+void add_extras(std::vector<EntryInfo>& out, std::span<const tables::XddEntry> xdd, const model::ModelPreset& p) {
   const auto has = [&](std::uint16_t i) {
-    return std::any_of(out.begin(), out.end(), [&](const EntryInfo& e) { return e.index == i; });
+    const auto it = std::lower_bound(xdd.begin(), xdd.end(), i,
+                                     [](const tables::XddEntry& x, std::uint16_t index) { return x.index < index; });
+    return (it != xdd.end() && it->index == i) ||
+           std::any_of(out.begin(), out.end(), [&](const EntryInfo& e) { return e.index == i; });
   };
   const auto has_entry = [&](std::uint16_t i, std::uint8_t s) {
-    return std::any_of(out.begin(), out.end(), [&](const EntryInfo& e) { return e.index == i && e.sub == s; });
+    return std::any_of(xdd.begin(), xdd.end(), [&](const tables::XddEntry& x) { return x.index == i && x.sub == s; }) ||
+           std::any_of(out.begin(), out.end(), [&](const EntryInfo& e) { return e.index == i && e.sub == s; });
   };
   // 1400h RPDO1 communication (missing from the MC349 XDD).
   if (!has(0x1400)) {
@@ -236,25 +250,13 @@ EntryClass class_of(const EntryInfo& e, Base base) {
 
 // ---- §5 limits -------------------------------------------------------------------------------
 
-Validator one_of(std::set<std::int64_t> allowed) {
-  return [allowed = std::move(allowed)](const ObjectDictionary&, std::optional<std::int64_t>, std::int64_t v) {
-    return allowed.count(v) ? AbortCode::none : AbortCode::invalid_value;
-  };
-}
-
-Validator range_set(std::int64_t lo, std::int64_t hi, std::set<std::int64_t> more) {
-  return [lo, hi, more = std::move(more)](const ObjectDictionary&, std::optional<std::int64_t>, std::int64_t v) {
-    return (v >= lo && v <= hi) || more.count(v) ? AbortCode::none : AbortCode::invalid_value;
-  };
-}
-
 bool restricted_can_id(std::int64_t id) {
   return (id >= 0x000 && id <= 0x07F) || (id >= 0x101 && id <= 0x180) || (id >= 0x581 && id <= 0x5FF) ||
          (id >= 0x601 && id <= 0x67F) || (id >= 0x6E0 && id <= 0x6FF) || (id >= 0x701 && id <= 0x7FF);
 }
 
 // COB-ID rules of slcan-canopen.md §9.2 (PDOs, EMCY).
-AbortCode cob_id_rule(std::optional<std::int64_t> stored, std::int64_t v) {
+AbortCode cob_id_validator(const ObjectDictionary&, std::optional<std::int64_t> stored, std::int64_t v) {
   if (v & 0x3FFFF800LL) return AbortCode::invalid_value;  // bit 29 and bits 28…11
   const bool valid = (v & 0x80000000LL) == 0;
   if (stored && valid && (*stored & 0x80000000LL) == 0 && (*stored & 0x7FF) != (v & 0x7FF)) {
@@ -264,74 +266,115 @@ AbortCode cob_id_rule(std::optional<std::int64_t> stored, std::int64_t v) {
   return AbortCode::none;
 }
 
-void apply_limits(EntryInfo& e, const model::ModelPreset& p) {
-  const std::uint16_t i = e.index;
-  const std::uint8_t s = e.sub;
-  const auto range = [&](std::int64_t lo, std::int64_t hi) { e.limits = Range{lo, hi}; };
-  if (i == 0x3401 && s == 0x06) range(-1, 1);
-  if (i == 0x6067) range(0, 2147483648LL);
-  if (in(i, 0x606D, 0x6070)) range(1, 65535);
-  if (i == 0x607A || (i == 0x607D && s >= 1)) range(-2147483647LL, 2147483647LL);
-  if (i == 0x6083 || i == 0x6084 || i == 0x6085 || i == 0x609A || i == 0x60C5 || i == 0x60C6) range(1, 4294967295LL);
-  if ((i == 0x608F || i == 0x6091 || i == 0x6092) && s >= 1) range(1, 4294967295LL);
-  if (i == 0x6060) e.validator = p.is_rabbit() ? one_of({0, 1, 6}) : one_of({0, 1, 3, 6});
-  if (i == 0x605A) e.validator = one_of({0, 1, 2, 5, 6});
-  if (i == 0x605B || i == 0x605C) e.validator = one_of({0, 1});
-  if (i == 0x605D || i == 0x605E) e.validator = one_of({0, 1, 2, 3, 4});
-  if (i == 0x1005) {
-    e.validator = [](const ObjectDictionary&, std::optional<std::int64_t>, std::int64_t v) {
-      if (v & 0x7FFFF800LL) return AbortCode::invalid_value;  // bit 30 (producer), 29, 28…11
-      if (restricted_can_id(v & 0x7FF)) return AbortCode::invalid_value;
-      return AbortCode::none;
-    };
+// One rule of §5: entries first…last (sub = k_any_sub, k_subs_from_1 or one sub) get `apply`. A
+// table instead of a chain of ifs per entry: building a drive visits the ~40 matching entries, not
+// ~900 entries × ~50 conditions (issue 26). Rows apply in order; a later row overrides an earlier
+// one for the same entry.
+constexpr int k_any_sub = -1;
+constexpr int k_subs_from_1 = -2;
+struct LimitRule {
+  std::uint16_t first;
+  std::uint16_t last;
+  int sub;
+  void (*apply)(EntryInfo& e, const model::ModelPreset& p);
+};
+
+template <std::int64_t Lo, std::int64_t Hi>
+void range(EntryInfo& e, const model::ModelPreset&) {
+  e.limits = Range{Lo, Hi};
+}
+template <auto MakeValidator>
+void validate(EntryInfo& e, const model::ModelPreset&) {
+  e.validator = MakeValidator();
+}
+void length_tolerant(EntryInfo& e, const model::ModelPreset&) { e.length_tolerant = true; }
+
+constexpr std::array<LimitRule, 36> k_limit_rules = {{
+    {0x3401, 0x3401, 0x06, range<-1, 1>},
+    {0x6067, 0x6067, k_any_sub, range<0, 2147483648LL>},
+    {0x606D, 0x6070, k_any_sub, range<1, 65535>},
+    {0x607A, 0x607A, k_any_sub, range<-2147483647LL, 2147483647LL>},
+    {0x607D, 0x607D, k_subs_from_1, range<-2147483647LL, 2147483647LL>},
+    {0x6083, 0x6085, k_any_sub, range<1, 4294967295LL>},
+    {0x609A, 0x609A, k_any_sub, range<1, 4294967295LL>},
+    {0x60C5, 0x60C6, k_any_sub, range<1, 4294967295LL>},
+    {0x608F, 0x608F, k_subs_from_1, range<1, 4294967295LL>},
+    {0x6091, 0x6092, k_subs_from_1, range<1, 4294967295LL>},
+    {0x6060, 0x6060, k_any_sub,
+     [](EntryInfo& e, const model::ModelPreset& p) { e.validator = p.is_rabbit() ? one_of<0, 1, 6>() : one_of<0, 1, 3, 6>(); }},
+    {0x605A, 0x605A, k_any_sub, validate<one_of<0, 1, 2, 5, 6>>},
+    {0x605B, 0x605C, k_any_sub, validate<one_of<0, 1>>},
+    {0x605D, 0x605E, k_any_sub, validate<one_of<0, 1, 2, 3, 4>>},
+    {0x1005, 0x1005, k_any_sub,
+     [](EntryInfo& e, const model::ModelPreset&) {
+       e.validator = [](const ObjectDictionary&, std::optional<std::int64_t>, std::int64_t v) {
+         if (v & 0x7FFFF800LL) return AbortCode::invalid_value;  // bit 30 (producer), 29, 28…11
+         if (restricted_can_id(v & 0x7FF)) return AbortCode::invalid_value;
+         return AbortCode::none;
+       };
+     }},
+    {0x1400, 0x1403, 1, [](EntryInfo& e, const model::ModelPreset&) { e.validator = cob_id_validator; }},
+    {0x1800, 0x1803, 1, [](EntryInfo& e, const model::ModelPreset&) { e.validator = cob_id_validator; }},
+    {0x1014, 0x1014, k_any_sub, [](EntryInfo& e, const model::ModelPreset&) { e.validator = cob_id_validator; }},
+    {0x1400, 0x1403, 2, validate<range_set<0, 240, 254, 255>>},
+    {0x1800, 0x1803, 2, validate<range_set<0, 240, 252, 253, 254, 255>>},
+    {0x1800, 0x1803, 3,
+     [](EntryInfo& e, const model::ModelPreset&) {
+       // the inhibit time may change only while the PDO is invalid (its COB-ID in sub 1 of the same object)
+       const std::uint16_t comm = e.index;
+       e.validator = [comm](const ObjectDictionary& od, std::optional<std::int64_t> stored, std::int64_t) {
+         if (!stored) return AbortCode::none;
+         return (od.number(comm, 1) & 0x80000000LL) ? AbortCode::none : AbortCode::invalid_value;
+       };
+     }},
+    {0x1029, 0x1029, 1, validate<one_of<0, 1, 2>>},
+    {0x1F51, 0x1F51, 1, validate<one_of<0, 1, 2, 3>>},
+    {0x3404, 0x3404, 3, range<1, 127>},
+    {0x3500, 0x3500, 2, validate<one_of<0, 1, 2>>},
+    {0x3500, 0x3500, 4, validate<one_of<0, 1>>},
+    {0x3511, 0x351A, 1,
+     [](EntryInfo& e, const model::ModelPreset&) {
+       e.validator = [](const ObjectDictionary&, std::optional<std::int64_t>, std::int64_t v) {
+         return ((v >> 8) & 0xFF) <= 11 && (v & 0xFF) <= 11 ? AbortCode::none : AbortCode::invalid_value;
+       };
+     }},
+    {0x3511, 0x351A, 5, length_tolerant},
+    {0x3511, 0x351A, 7, length_tolerant},
+    {0x3611, 0x3614, 2, length_tolerant},
+    {0x3510, 0x3510, 2,
+     [](EntryInfo& e, const model::ModelPreset&) {
+       e.validator = [](const ObjectDictionary&, std::optional<std::int64_t>, std::int64_t v) {
+         const std::int64_t yy = (v >> 8) & 0xFF;
+         const std::int64_t zz = v & 0xFF;
+         if (zz == 0) return AbortCode::none;
+         return yy >= 1 && yy <= 10 && zz <= 8 ? AbortCode::none : AbortCode::invalid_value;
+       };
+     }},
+    {0x3611, 0x3614, 1, validate<range_set<0, 6>>},
+    {0x5000, 0x5000, 0, validate<one_of<5>>},
+    {0x60B8, 0x60B8, k_any_sub,
+     [](EntryInfo& e, const model::ModelPreset&) {
+       e.validator = [](const ObjectDictionary&, std::optional<std::int64_t>, std::int64_t v) {
+         if (v & 0xF000) return AbortCode::invalid_value;
+         for (int shift : {0, 4, 8}) {
+           if (((v >> shift) & 0xF) > 10) return AbortCode::invalid_value;
+         }
+         return AbortCode::none;
+       };
+     }},
+    {0x3300, 0x3300, 5, range<-180, 180>},
+    {0x3301, 0x3301, 1, validate<one_of<1, 2, 3>>},
+}};
+
+// `entries` sorted by (index, sub).
+void apply_limits(std::vector<EntryInfo>& entries, const model::ModelPreset& p) {
+  for (const LimitRule& r : k_limit_rules) {
+    auto it = std::lower_bound(entries.begin(), entries.end(), r.first,
+                               [](const EntryInfo& e, std::uint16_t index) { return e.index < index; });
+    for (; it != entries.end() && it->index <= r.last; ++it) {
+      if (r.sub == k_any_sub || (r.sub == k_subs_from_1 ? it->sub >= 1 : it->sub == r.sub)) r.apply(*it, p);
+    }
   }
-  if ((in(i, 0x1400, 0x1403) || in(i, 0x1800, 0x1803) || i == 0x1014) && (s == 1 || i == 0x1014)) {
-    e.validator = [](const ObjectDictionary&, std::optional<std::int64_t> stored, std::int64_t v) {
-      return cob_id_rule(stored, v);
-    };
-  }
-  if (in(i, 0x1400, 0x1403) && s == 2) e.validator = range_set(0, 240, {254, 255});
-  if (in(i, 0x1800, 0x1803) && s == 2) e.validator = range_set(0, 240, {252, 253, 254, 255});
-  if (in(i, 0x1800, 0x1803) && s == 3) {
-    const std::uint16_t comm = i;
-    e.validator = [comm](const ObjectDictionary& od, std::optional<std::int64_t> stored, std::int64_t) {
-      if (!stored) return AbortCode::none;
-      return (od.number(comm, 1) & 0x80000000LL) ? AbortCode::none : AbortCode::invalid_value;
-    };
-  }
-  if (i == 0x1029 && s == 1) e.validator = one_of({0, 1, 2});
-  if (i == 0x1F51 && s == 1) e.validator = one_of({0, 1, 2, 3});
-  if (i == 0x3404 && s == 3) range(1, 127);
-  if (i == 0x3500 && s == 2) e.validator = one_of({0, 1, 2});
-  if (i == 0x3500 && s == 4) e.validator = one_of({0, 1});
-  if (in(i, 0x3511, 0x351A) && s == 1) {
-    e.validator = [](const ObjectDictionary&, std::optional<std::int64_t>, std::int64_t v) {
-      return ((v >> 8) & 0xFF) <= 11 && (v & 0xFF) <= 11 ? AbortCode::none : AbortCode::invalid_value;
-    };
-  }
-  if (in(i, 0x3511, 0x351A) && (s == 5 || s == 7)) e.length_tolerant = true;
-  if (in(i, 0x3611, 0x3614) && s == 2) e.length_tolerant = true;
-  if (i == 0x3510 && s == 2) {
-    e.validator = [](const ObjectDictionary&, std::optional<std::int64_t>, std::int64_t v) {
-      const std::int64_t yy = (v >> 8) & 0xFF;
-      const std::int64_t zz = v & 0xFF;
-      if (zz == 0) return AbortCode::none;
-      return yy >= 1 && yy <= 10 && zz <= 8 ? AbortCode::none : AbortCode::invalid_value;
-    };
-  }
-  if (in(i, 0x3611, 0x3614) && s == 1) e.validator = range_set(0, 6, {});
-  if (i == 0x5000 && s == 0) e.validator = one_of({5});
-  if (i == 0x60B8) {
-    e.validator = [](const ObjectDictionary&, std::optional<std::int64_t>, std::int64_t v) {
-      if (v & 0xF000) return AbortCode::invalid_value;
-      for (int shift : {0, 4, 8}) {
-        if (((v >> shift) & 0xF) > 10) return AbortCode::invalid_value;
-      }
-      return AbortCode::none;
-    };
-  }
-  if (i == 0x3300 && s == 5) range(-180, 180);
-  if (i == 0x3301 && s == 1) e.validator = one_of({1, 2, 3});
 }
 
 // ---- §7 factory values -------------------------------------------------------------------------
@@ -435,16 +478,28 @@ std::span<const tables::XddEntry> xdd_table(model::Base base) {
 
 std::vector<EntryInfo> build_entries(const model::ModelPreset& preset) {
   if (preset.is_faulhaber()) return build_faulhaber_entries(preset);
-  std::vector<EntryInfo> out;
   const auto table = xdd_table(preset.base);
-  out.reserve(table.size() + 160);  // the XDD's entries and mcemu's additions, without regrowth
-  for (const auto& x : table) out.push_back(from_xdd(x));
-  add_extras(out, preset);
-  sort_entries(out);
-  for (auto& e : out) {
-    e.cls = class_of(e, preset.base);
-    apply_limits(e, preset);
+  std::vector<EntryInfo> extras;
+  extras.reserve(160);
+  add_extras(extras, table, preset);
+  sort_entries(extras);
+  // One merge of the sorted XDD table and the sorted additions: each entry is built once in its
+  // place (a sort of all ~630 entries moved each several times, issue 26).
+  std::vector<EntryInfo> out;
+  out.reserve(table.size() + extras.size());
+  auto x = table.begin();
+  auto add = extras.begin();
+  while (x != table.end() || add != extras.end()) {
+    const bool take_xdd = add == extras.end() ||
+                          (x != table.end() && (x->index != add->index ? x->index < add->index : x->sub < add->sub));
+    if (take_xdd) {
+      out.push_back(from_xdd(*x++));
+    } else {
+      out.push_back(std::move(*add++));
+    }
   }
+  for (auto& e : out) e.cls = class_of(e, preset.base);
+  apply_limits(out, preset);
   apply_factory(out, preset);
   return out;
 }

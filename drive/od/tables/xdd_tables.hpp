@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 #include "drive/od/types.hpp"
 
@@ -16,8 +17,8 @@ struct XddEntry {
   DataType type;
   Access access;
   PdoFlag pdo;
-  const char* name;
-  const char* object_name;
+  std::string_view name;  // views of the literals: no strlen per entry when a drive is built
+  std::string_view object_name;
   const char* xdd_default;  // as written in the XDD, nullptr if none ("$NODEID+0x600", "0x3E8", …)
 };
 

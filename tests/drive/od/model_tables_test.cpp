@@ -284,6 +284,19 @@ TEST_P(EveryPreset, LookupFindsEveryEntryAndClassifiesTheAbsent) {
   }
 }
 
+// build_entries merges the XDD table with the sorted additions and looks objects up by binary
+// search: every generated table must be strictly ascending by (index, sub).
+TEST(XddTables, StrictlyAscending) {
+  for (const auto base : {model::Base::mc349, model::Base::mc6xx, model::Base::mcflat, model::Base::mcn23}) {
+    const auto table = xdd_table(base);
+    ASSERT_FALSE(table.empty());
+    for (std::size_t i = 1; i < table.size(); ++i) {
+      EXPECT_LT(std::pair(table[i - 1].index, table[i - 1].sub), std::pair(table[i].index, table[i].sub))
+          << model::to_string(base) << " row " << i;
+    }
+  }
+}
+
 TEST(Presets, UnknownNameAndRabbitSpecifics) {
   EXPECT_FALSE(model::find_preset("mc349"));
   EXPECT_FALSE(model::find_preset("MC999"));
