@@ -10,7 +10,9 @@
 #include <benchmark/benchmark.h>
 #include <malloc.h>
 
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "tests/support/device_fixture.hpp"
 
@@ -50,6 +52,26 @@ void BM_MovingStep_MC349(benchmark::State& state) {
   d.step(100);
   for (auto _ : state) d.step();
   benchmark::DoNotOptimize(d.core().raw_position_inc());
+}
+
+// N MovingCaps in Back & Forth, stepped in turn like a fleet's clock steps its drives: the time per
+// drive step once the drives no longer share the caches (fleet.py measures the same through the
+// server, with its sockets and script engines). Items = drive steps.
+void BM_MovingFleet_MC349(benchmark::State& state) {
+  std::vector<std::unique_ptr<DeviceFixture>> fleet;
+  for (std::int64_t k = 0; k < state.range(0); ++k) {
+    auto d = std::make_unique<DeviceFixture>("MC349", quiet());
+    d->device().power_up_network();
+    for (const char* line : {"EN", "SP1000", "AC1000", "DC1000", "WT0", "RW655360", "BF"}) {
+      (void)d->refgo().execute(line);
+    }
+    d->step(100 + static_cast<std::uint64_t>(k));  // out of phase, as real drives are
+    fleet.push_back(std::move(d));
+  }
+  for (auto _ : state) {
+    for (auto& d : fleet) d->step();
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
 }
 
 // A FAULHABER drive moving in profile position between 0 and 40000 (a step of the whole bundle).
@@ -132,4 +154,5 @@ BENCHMARK(BM_Construct_MC349)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Construct_FH_MC5005)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MovingStep_MC349);
 BENCHMARK(BM_MovingStep_FH_MC5005);
+BENCHMARK(BM_MovingFleet_MC349)->Arg(1)->Arg(100)->Arg(1000);
 BENCHMARK(BM_IdleMinute_MC349);

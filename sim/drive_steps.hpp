@@ -56,6 +56,7 @@ class DriveSteps final : public Steppable {
   std::vector<Part*> parts_;
   bool dirty_ = true;
   std::uint64_t generation_ = 0;  // od.generation() at the end of the last step
+  bool changed_ = false;          // the last step changed the dictionary
 };
 
 // A hand-off run after every full step that needs no step of its own (the shell draining core

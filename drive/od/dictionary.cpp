@@ -41,15 +41,24 @@ std::string hook_conflict(const char* kind, std::uint16_t index, std::uint8_t su
 
 }  // namespace
 
+namespace {
+// A number as an entry of a numeric `type` stores it (§3.2): in range, or a negative 32-bit
+// pattern for unsigned32.
+Result<std::int64_t> convert_number(DataType type, std::int64_t n) {
+  const Range r = type_range(type);
+  if (n >= r.min && n <= r.max) return n;
+  if (type == DataType::unsigned32 && n >= -2147483648LL && n <= -1) return n + 4294967296LL;
+  return n > r.max ? AbortCode::value_too_high : AbortCode::value_too_low;
+}
+}  // namespace
+
 Result<Value> convert_for_write(const EntryInfo& info, const Value& v) {
   const bool want_string = is_string(info.type);
   if (std::holds_alternative<std::string>(v) != want_string) return AbortCode::type_mismatch;
   if (want_string) return v;
-  std::int64_t n = std::get<std::int64_t>(v);
-  const Range r = type_range(info.type);
-  if (n >= r.min && n <= r.max) return Value{n};
-  if (info.type == DataType::unsigned32 && n >= -2147483648LL && n <= -1) return Value{n + 4294967296LL};
-  return n > r.max ? AbortCode::value_too_high : AbortCode::value_too_low;
+  const auto n = convert_number(info.type, std::get<std::int64_t>(v));
+  if (!n) return n.error();
+  return Value{*n};
 }
 
 void sort_entries(std::vector<EntryInfo>& entries) {
@@ -98,10 +107,14 @@ void ObjectDictionary::build_index() {
   objects_.clear();
   numbers_.resize(entries_.size());
   keys_.resize(entries_.size());
+  types_.resize(entries_.size());
+  plain_.resize(entries_.size());
   for (std::uint32_t i = 0; i < entries_.size(); ++i) {
     const auto& e = entries_[i].info;
     numbers_[i] = number_of(entries_[i].value);
     keys_[i] = key_of(e.index, e.sub);
+    types_[i] = e.type;
+    plain_[i] = is_plain(entries_[i]);
     if (i > 0 && entries_[i - 1].info.index == e.index) {
       if (entries_[i - 1].info.sub == e.sub) throw std::logic_error("duplicate OD entry");
       ++objects_.back().count;
@@ -267,6 +280,16 @@ AbortCode ObjectDictionary::write_value(std::uint16_t index, std::uint8_t sub, c
 }
 
 AbortCode ObjectDictionary::set(Handle h, const Value& value) {
+  // The drive's own writes of its actual values, every step: for a plain entry (a number without
+  // limits, validator or write hook) the compact arrays decide, and an unchanged value touches no
+  // Entry (issue 26: a fleet's drives evict each other's cache lines).
+  if (plain_[h] && std::holds_alternative<std::int64_t>(value)) {
+    const auto n = convert_number(types_[h], std::get<std::int64_t>(value));
+    if (!n) return n.error();
+    if (*n == numbers_[h]) return AbortCode::none;
+    store(entries_[h], Value{*n});
+    return AbortCode::none;
+  }
   auto v = convert_for_write(entries_[h].info, value);
   if (!v) return v.error();
   Done none;
@@ -348,7 +371,14 @@ void set_hook(std::deque<Hook>& hooks, std::uint16_t& slot, Hook hook, const cha
 }  // namespace
 
 void ObjectDictionary::on_write(std::uint16_t index, std::uint8_t sub, WriteHook hook) {
-  set_hook(write_hooks_, entries_[handle(index, sub)].write_hook, std::move(hook), "write", index, sub);
+  const Handle h = handle(index, sub);
+  set_hook(write_hooks_, entries_[h].write_hook, std::move(hook), "write", index, sub);
+  plain_[h] = is_plain(entries_[h]);
+}
+
+bool ObjectDictionary::is_plain(const Entry& e) const {
+  const bool hooked = e.write_hook != 0 && write_hooks_[e.write_hook - 1u];
+  return !is_string(e.info.type) && !e.info.limits && !e.info.validator && !hooked;
 }
 
 void ObjectDictionary::on_read(std::uint16_t index, std::uint8_t sub, ReadHook hook) {

@@ -204,6 +204,7 @@ class ObjectDictionary {
   AbortCode commit(Handle h, Value v, Origin origin, Done& done);
   AbortCode check_limits(const Entry& e, std::int64_t v, bool bulk) const;
   void store(Entry& e, Value v);
+  bool is_plain(const Entry& e) const;  // a number without limits, validator or write hook
 
   std::vector<Entry> entries_;
   std::vector<ObjectSlot> objects_;
@@ -218,6 +219,9 @@ class ObjectDictionary {
   std::vector<std::int64_t> numbers_;
   std::vector<std::uint32_t> keys_;
   std::vector<std::uint16_t> slots_;
+  // set()'s fast path: the type, and whether the entry is plain (is_plain()).
+  std::vector<DataType> types_;
+  std::vector<bool> plain_;
   std::vector<ChangeListener> listeners_;
   WriteTap tap_;
   int helper_depth_ = 0;

@@ -1,10 +1,8 @@
 #include "protocols/canopen/heartbeat.hpp"
 
-#include "protocols/canopen/od_access.hpp"
-
 namespace mcemu::canopen {
 
-std::int64_t HeartbeatProducer::configured() const { return stored_number_or(od_, 0x1017, 0, 0); }
+std::int64_t HeartbeatProducer::configured() const { return period_entry_ ? od_.number(*period_entry_) : 0; }
 
 bool HeartbeatProducer::enabled() const { return configured() != 0; }
 

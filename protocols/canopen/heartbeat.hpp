@@ -14,7 +14,7 @@ namespace mcemu::canopen {
 
 class HeartbeatProducer {
  public:
-  explicit HeartbeatProducer(const od::ObjectDictionary& od) : od_(od) {}
+  explicit HeartbeatProducer(const od::ObjectDictionary& od) : od_(od), period_entry_(od.find(0x1017, 0)) {}
 
   void restart(Millis at);                           // boot-up: first heartbeat at + T
   void written(std::int64_t period_ms, Millis now);  // 1017h written: next heartbeat now + T
@@ -28,7 +28,8 @@ class HeartbeatProducer {
   std::int64_t configured() const;
 
   const od::ObjectDictionary& od_;
-  std::int64_t period_ = 0;  // ms, as last seen
+  std::optional<od::Handle> period_entry_;  // 1017h, read every step (absent: no heartbeat)
+  std::int64_t period_ = 0;                 // ms, as last seen
   std::optional<Millis> next_;
 };
 

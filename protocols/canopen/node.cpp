@@ -126,8 +126,10 @@ std::vector<can::Frame> Node::advance(Millis now) {
   if (state_ != NmtState::stopped) {
     std::vector<Payload> responses;
     sdo_.advance(now_, responses);
-    const std::uint32_t tx = cob(0x1200, 2, 0x580);
-    for (const auto& p : responses) out_.sdo.push_back(make_frame(tx, p.data(), p.size()));
+    if (!responses.empty()) {
+      const std::uint32_t tx = cob(0x1200, 2, 0x580);
+      for (const auto& p : responses) out_.sdo.push_back(make_frame(tx, p.data(), p.size()));
+    }
   }
   if (guarding_.advance(now_, heartbeat_.enabled())) life_guarding_expired();
   if (state_ == NmtState::operational) tpdo_.check(now_, out_);

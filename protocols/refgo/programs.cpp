@@ -73,7 +73,9 @@ void Programs::on_step() {
     bf_.reset();
     return;
   }
-  const bool reached = (core::helpers::read_statusword(drive_) & k_target_reached) != 0;
+  const std::uint16_t sw =
+      statusword_ ? static_cast<std::uint16_t>(drive_.od.number(*statusword_)) : core::helpers::read_statusword(drive_);
+  const bool reached = (sw & k_target_reached) != 0;
   auto& g = *bf_;
   switch (g.phase) {
     case Phase::moving_out:

@@ -16,7 +16,7 @@ namespace mcemu::refgo {
 
 class Programs {
  public:
-  explicit Programs(core::helpers::DriveRef drive) : drive_(drive) {}
+  explicit Programs(core::helpers::DriveRef drive) : drive_(drive), statusword_(drive.od.find(0x6041, 0)) {}
 
   // Marks the writes made while it lives as the interpreter's own (no self-stop).
   class OwnWrites {
@@ -60,6 +60,7 @@ class Programs {
   od::AbortCode move_to(std::int64_t target);
 
   core::helpers::DriveRef drive_;
+  std::optional<od::Handle> statusword_;  // 6041h, read every step of a Back & Forth
   std::optional<BackAndForth> bf_;
   std::optional<std::uint64_t> jog_due_ms_;
   int own_depth_ = 0;
