@@ -99,10 +99,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return web::api::led_response(dev.leds(), dev.core().time_ms(), query);
   };
   services.clock = [] { return web::api::ClockInfo{"manual", 0}; };
-  fuzz::DriveTime time(dev.steps(), k_max_ms);
+  fuzz::DriveTime drive_time(dev.steps(), k_max_ms);
   services.advance_clock = [&](std::uint64_t ms, std::function<void(std::uint64_t)> done) {
-    time.touch();  // the server runs the steps after the request's wake
-    time.advance(ms);
+    drive_time.touch();  // the server runs the steps after the request's wake
+    drive_time.advance(ms);
     done(dev.core().time_ms());
   };
   services.power_cycle = [&](std::function<void()> done) {
@@ -161,11 +161,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         });
         break;
       }
-      case 2: time.advance(r.byte() + 1u); break;
+      case 2: drive_time.advance(r.byte() + 1u); break;
       case 3: drive.storage().complete(true); break;
       default: drive.storage().complete(false); break;
     }
-    if (op % 5 != 2) time.touch();  // the server's wake after a client's request
+    if (op % 5 != 2) drive_time.touch();  // the server's wake after a client's request
   }
   while (drive.storage().pending() > 0) drive.storage().complete(true);
   if (answered != asked) {

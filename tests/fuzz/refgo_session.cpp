@@ -135,7 +135,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   auto a = std::make_unique<Connection>(interpreter);
   Connection b(interpreter);
   std::vector<std::unique_ptr<Connection>> finished;  // half-closed, still owing replies
-  fuzz::DriveTime time(drive.device().steps(), k_max_ms);
+  fuzz::DriveTime drive_time(drive.device().steps(), k_max_ms);
   const auto collect_all = [&] {
     a->collect();
     b.collect();
@@ -145,7 +145,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::Records r(data, size);
   while (!r.empty()) {
     const std::uint8_t op = r.byte();
-    switch ((op & 0x0F) % 9) {  // 0x10 is a flag: the command goes to connection B
+    const unsigned op_kind = (op & 0x0F) % 9;  // 0x10 is a flag: the command goes to connection B
+    switch (op_kind) {
       case 0: a->feed(r.bytes()); break;
       case 1: b.feed(r.bytes()); break;
       case 2: {  // a command of the table with a fuzzed argument and line end
@@ -170,7 +171,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         a->feed(line);
         break;
       }
-      case 4: time.advance(r.byte() + 1u); break;  // the programs too
+      case 4: drive_time.advance(r.byte() + 1u); break;  // the programs too
 
       case 5: drive.storage().complete(true); break;
       case 6: drive.storage().complete(false); break;
@@ -183,7 +184,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
       default: interpreter.reset(); break;  // power-up state of the interpreter variables
     }
-    if ((op & 0x0F) % 9 != 4) time.touch();  // the server's wake after a client's input
+    if (op_kind != 4) drive_time.touch();  // the server's wake after a client's input
     collect_all();
   }
 

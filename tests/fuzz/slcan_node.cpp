@@ -131,8 +131,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   Client a(bus);
   Client b(bus);
-  drive.device().power_up_network();                       // boot-up, as at the start of mcemu
-  fuzz::DriveTime time(drive.device().steps(), k_max_ms);  // the bus too
+  drive.device().power_up_network();                             // boot-up, as at the start of mcemu
+  fuzz::DriveTime drive_time(drive.device().steps(), k_max_ms);  // the bus too
   // what the node has ready now (a completed Store, an EMCY after a write) goes out at once
   const auto flush = [&] { bus.step(std::chrono::milliseconds(0)); };
   const auto index_sub = [&](std::array<std::uint8_t, 8>& d) {
@@ -149,7 +149,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::uint8_t op = r.byte();
     Client& c = (op & 0x80) ? b : a;
     std::array<std::uint8_t, 8> d{};
-    switch ((op & 0x3F) % 12) {  // 0x40 and 0x80 are flags: a variant of the op, client B
+    const unsigned op_kind = (op & 0x3F) % 12;  // 0x40 and 0x80 are flags: a variant of the op, client B
+    switch (op_kind) {
       case 0: c.feed(r.bytes()); break;
       case 1: {  // one SDO request: a command specifier of CiA 301 §7.2.4 with fuzzed flags
         static constexpr std::array<std::uint8_t, 12> k_base = {0x20, 0x00, 0x40, 0x60, 0xC0, 0x00,
@@ -250,8 +251,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         break;
       }
-      case 8: time.advance(r.byte() + 1u); break;
-      case 9: time.advance(r.byte() * 20u); break;  // past SDO timeouts and heartbeats
+      case 8: drive_time.advance(r.byte() + 1u); break;
+      case 9: drive_time.advance(r.byte() * 20u); break;  // past SDO timeouts and heartbeats
       case 10:
         drive.storage().complete((op & 0x40) == 0);
         drive.device().handle_events();
@@ -263,7 +264,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         break;
       }
     }
-    if ((op & 0x3F) % 12 != 8 && (op & 0x3F) % 12 != 9) time.touch();  // the server's wake after a client's input
+    if (op_kind != 8 && op_kind != 9) drive_time.touch();  // the server's wake after a client's input
     flush();
     a.collect();
     b.collect();
