@@ -172,7 +172,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         break;
       }
       case 4: drive_time.advance(r.byte() + 1u); break;  // the programs too
-
       case 5: drive.storage().complete(true); break;
       case 6: drive.storage().complete(false); break;
       case 7: {  // FIN from A; the replies it owes still arrive, then a new connection takes its place
