@@ -1,12 +1,18 @@
 // Fuzz target: HTTP requests through the pure router (web.md §1.3, §1.4, §7–§9) on the real drive —
 // dictionary, core, I/O functions, RefGo interpreter, Store/Restore, fault injections, scope, trace,
-// LEDs — in drive time. Beast's parser (web/net) is not under test; what it hands the router is:
+// LEDs — in drive time, built fresh for every input so that a crash reproduces from its input
+// alone. Beast's parser (web/net) is not under test; what it hands the router is:
 // any method, any target bytes, any headers, any body.
 //
 // Input: records [op][payload]; ops send a request to a route of the router's own table (its
 // {parameters} and query filled from the input) or to raw target bytes, with a chosen method,
-// content type and Origin and a fuzzed body; step the drive; complete or fail pending state-file
-// writes.
+// content type and Origin and a fuzzed body; advance drive time by 1–256 ms; complete or fail
+// pending state-file writes.
+// Drive time advances as under the server's manual clock, also for POST /api/v1/clock/advance
+// (tests/fuzz/drive_time.hpp: quiet stretches skipped, needed steps in full; every other op
+// touches the drive as a client's request wakes the clock). Budget per input: 20 s of drive time,
+// as before the skipping: fault-injection durations, LED schedules, moves and timed jogs started
+// over the API still run out; an idle drive passes it in a few full steps.
 // Oracles beyond "no crash, no sanitizer report": every request is answered exactly once (a Store
 // answers when its write completes), the status is 1xx–5xx, a JSON answer parses, a POST to /api/
 // without a JSON content type is refused (415, or 404/405 first) before it acts (web.md §1.3), and the dictionary is
@@ -18,10 +24,12 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "drive/led/leds.hpp"
 #include "protocols/refgo/interpreter.hpp"
 #include "tests/fuzz/drive_bundle.hpp"
+#include "tests/fuzz/drive_time.hpp"
 #include "tests/support/device_fixture.hpp"
 #include "trace/trace.hpp"
 #include "web/api/led_view.hpp"
@@ -38,7 +46,10 @@ constexpr std::array<const char*, 5> k_types = {"application/json", "", "text/pl
                                                 "multipart/form-data; boundary=x"};
 constexpr std::array<const char*, 4> k_origins = {"", "http://127.0.0.1:8080", "http://attacker.example", "null"};
 constexpr std::array<const char*, 8> k_params = {"6041", "6083h", "0", "1", "f1", "FFFF", "", "x%00"};
-constexpr std::uint64_t k_max_steps = 20000;
+constexpr std::uint64_t k_max_ms = 20000;  // drive time per input (header comment)
+
+// The router's own table (a static of the code, the same for every input).
+std::vector<web::api::RouteDoc> g_routes;
 
 std::string fill_route(std::string_view pattern, fuzz::Records& r) {
   std::string out;
@@ -62,6 +73,7 @@ std::string fill_route(std::string_view pattern, fuzz::Records& r) {
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   spdlog::set_level(spdlog::level::off);
+  g_routes = web::api::Router::route_docs();
   return 0;
 }
 
@@ -87,9 +99,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return web::api::led_response(dev.leds(), dev.core().time_ms(), query);
   };
   services.clock = [] { return web::api::ClockInfo{"manual", 0}; };
-  std::uint64_t steps = 0;
+  fuzz::DriveTime drive_time(dev.steps(), k_max_ms);
   services.advance_clock = [&](std::uint64_t ms, std::function<void(std::uint64_t)> done) {
-    for (std::uint64_t i = 0; i < ms && steps < k_max_steps; ++i, ++steps) drive.step();
+    drive_time.touch();  // the server runs the steps after the request's wake
+    drive_time.advance(ms);
     done(dev.core().time_ms());
   };
   services.power_cycle = [&](std::function<void()> done) {
@@ -98,7 +111,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   };
   services.note = [](const std::string&) {};
   web::api::Router router(dev, std::move(services));
-  const auto routes = web::api::Router::route_docs();
 
   std::uint64_t asked = 0;
   std::uint64_t answered = 0;
@@ -111,7 +123,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         Request req;
         req.method = k_methods[r.byte() % k_methods.size()];
         if (op % 5 == 0) {
-          const auto& route = routes[r.u16() % routes.size()];
+          const auto& route = g_routes[r.u16() % g_routes.size()];
           req.target = fill_route(route.path, r);
           if (r.byte() & 1) {
             req.target += '?';
@@ -149,14 +161,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         });
         break;
       }
-      case 2: {
-        const unsigned n = r.byte() + 1u;
-        for (unsigned i = 0; i < n && steps < k_max_steps; ++i, ++steps) drive.step();
-        break;
-      }
+      case 2: drive_time.advance(r.byte() + 1u); break;
       case 3: drive.storage().complete(true); break;
       default: drive.storage().complete(false); break;
     }
+    if (op % 5 != 2) drive_time.touch();  // the server's wake after a client's request
   }
   while (drive.storage().pending() > 0) drive.storage().complete(true);
   if (answered != asked) {

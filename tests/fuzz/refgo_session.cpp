@@ -1,10 +1,18 @@
 // Fuzz target: two RefGo connections (line assembler, session) on the interpreter of a real drive
 // bundle (tests/support/device_fixture.hpp: dictionary, core, I/O functions, Store/Restore, the
-// RefGo programs in the bundle's step) in drive time (refgo.md §1–§10).
+// RefGo programs in the bundle's step) in drive time (refgo.md §1–§10). The drive is built fresh
+// for every input, so that a crash reproduces from its input alone.
 //
 // Input: records [op][payload]; ops feed raw bytes to connection A or B, build a command line from
-// the command table or an OR/OW of a real entry with fuzzed numbers, step the drive, complete or
-// fail pending state-file writes, or half-close A (then reconnect it).
+// the command table or an OR/OW of a real entry with fuzzed numbers, advance drive time by 1–256 ms,
+// complete or fail pending state-file writes, or half-close A (then reconnect it).
+// Drive time advances as under the server's manual clock (tests/fuzz/drive_time.hpp: quiet
+// stretches skipped, needed steps in full; every other op touches the drive as a client's input
+// wakes the clock). Budget per input: 20 s of drive time, as before the skipping, so that every
+// timer the ops can set still runs out — a Back & Forth with WT < 1000 ms (the short numbers the
+// ops make) goes forth and back ~9 times (refgo.md §7.7: ~1.1 s a way at RW100 WT999), a JP<t>
+// timer stops the jog, a move settles. An idle drive passes it in a few full steps; an enabled one
+// steps every ms (~5 µs a step under ASan: at most ~0.1 s for an input).
 // Oracles beyond "no crash, no sanitizer report": every reply has the layout of refgo.md §3
 // ("<echo>\r\n[<answer>\r\n]>" or ">"), a connection's output only ever ends after a complete
 // reply, every complete line gets exactly one reply once the writes are done (§2.5), and the
@@ -14,12 +22,15 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "protocols/line/line_assembler.hpp"
 #include "protocols/refgo/codec.hpp"
 #include "protocols/refgo/interpreter.hpp"
 #include "protocols/refgo/session.hpp"
 #include "tests/fuzz/drive_bundle.hpp"
+#include "tests/fuzz/drive_time.hpp"
 #include "tests/support/device_fixture.hpp"
 
 namespace {
@@ -29,7 +40,10 @@ using namespace mcemu;
 constexpr std::array<const char*, 27> k_words = {"G",  "GW",  "SM", "CM", "PWC",  "PQ", "REF", "JP", "JN",
                                                  "RR", "OR",  "OW", "TP", "TPSR", "TS", "TI",  "SP", "AC",
                                                  "DE", "ACV", "PO", "WA", "SO",   "CO", "RW",  "WT", "XYZ"};
-constexpr std::uint64_t k_max_steps = 20000;  // drive time per input: keeps one run short
+constexpr std::uint64_t k_max_ms = 20000;  // drive time per input (header comment)
+
+// The (index, sub) of every entry of the preset, for the OR/OW op: the same for every input.
+std::vector<std::pair<std::uint16_t, std::uint8_t>> g_entries;
 
 // One connection, with the reference framing that says how many replies it owes.
 struct Connection {
@@ -99,25 +113,29 @@ std::string hex_of(unsigned v) {
   return s;
 }
 
+mcemu::testing::DeviceOptions options() {
+  mcemu::testing::DeviceOptions o;
+  o.keep_events = false;
+  return o;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   spdlog::set_level(spdlog::level::off);
+  const mcemu::testing::DeviceFixture drive("MC349", options());
+  drive.od().for_each([](const od::EntryInfo& e, const od::Value&) { g_entries.emplace_back(e.index, e.sub); });
   return 0;
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  mcemu::testing::DeviceOptions options;
-  options.keep_events = false;
-  mcemu::testing::DeviceFixture drive("MC349", std::move(options));
+  mcemu::testing::DeviceFixture drive("MC349", options());
   refgo::Interpreter& interpreter = drive.refgo();
-  std::vector<std::pair<std::uint16_t, std::uint8_t>> entries;
-  drive.od().for_each([&](const od::EntryInfo& e, const od::Value&) { entries.emplace_back(e.index, e.sub); });
 
   auto a = std::make_unique<Connection>(interpreter);
   Connection b(interpreter);
   std::vector<std::unique_ptr<Connection>> finished;  // half-closed, still owing replies
-  std::uint64_t steps = 0;
+  fuzz::DriveTime drive_time(drive.device().steps(), k_max_ms);
   const auto collect_all = [&] {
     a->collect();
     b.collect();
@@ -127,7 +145,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::Records r(data, size);
   while (!r.empty()) {
     const std::uint8_t op = r.byte();
-    switch ((op & 0x0F) % 9) {  // 0x10 is a flag: the command goes to connection B
+    const unsigned op_kind = (op & 0x0F) % 9;  // 0x10 is a flag: the command goes to connection B
+    switch (op_kind) {
       case 0: a->feed(r.bytes()); break;
       case 1: b.feed(r.bytes()); break;
       case 2: {  // a command of the table with a fuzzed argument and line end
@@ -138,7 +157,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         break;
       }
       case 3: {  // OR / OW of a real entry
-        const auto& [index, sub] = entries[r.u16() % entries.size()];
+        const auto& [index, sub] = g_entries[r.u16() % g_entries.size()];
         const bool write = (r.byte() & 1) != 0;
         // appends, not operator+ chains: GCC 12 reports a false -Wrestrict for those
         std::string line = write ? "OW" : "OR";
@@ -152,11 +171,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         a->feed(line);
         break;
       }
-      case 4: {
-        const unsigned n = r.byte() + 1u;
-        for (unsigned i = 0; i < n && steps < k_max_steps; ++i, ++steps) drive.step();  // the programs too
-        break;
-      }
+      case 4: drive_time.advance(r.byte() + 1u); break;  // the programs too
       case 5: drive.storage().complete(true); break;
       case 6: drive.storage().complete(false); break;
       case 7: {  // FIN from A; the replies it owes still arrive, then a new connection takes its place
@@ -168,6 +183,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
       default: interpreter.reset(); break;  // power-up state of the interpreter variables
     }
+    if (op_kind != 4) drive_time.touch();  // the server's wake after a client's input
     collect_all();
   }
 

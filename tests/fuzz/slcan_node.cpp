@@ -1,12 +1,19 @@
 // Fuzz target: two SLCAN connections (line assembler, codec, session) on the one virtual CAN bus of
 // a real drive bundle (tests/support/device_fixture.hpp; device().canopen(), device/canopen_bus.cpp)
 // with the CANopen node of node-id 50 and the drive — dictionary, core, I/O functions,
-// Store/Restore, NMT reset wiring — in drive time (slcan-canopen.md §3–§10).
+// Store/Restore, NMT reset wiring — in drive time (slcan-canopen.md §3–§10). The drive is built
+// fresh for every input, so that a crash reproduces from its input alone.
 //
 // Input: two bytes of session settings, then records [op][payload]. Besides raw bytes, ops build well-formed frames so
 // that the fuzzer reaches deep SDO states: any SDO command specifier with the index/sub of a real entry; complete
 // expedited, segmented and block (CRC) transfers that the next ops can interrupt; NMT, SYNC, RPDO
-// and guarding frames; drive steps; state-file writes completing or failing.
+// and guarding frames; advancing drive time by 1–256 ms or by 0–5100 ms; state-file writes
+// completing or failing.
+// Drive time advances as under the server's manual clock (tests/fuzz/drive_time.hpp: quiet
+// stretches skipped, needed steps in full; every other op touches the drive as a client's input
+// wakes the clock). Budget per input: 20 s of drive time, as before the skipping: SDO server
+// timeouts (1 s), heartbeats and guarding, boot-up delays still happen, also while a drive enabled
+// over SDO needs every step; an idle drive passes it in a few full steps.
 // Oracles beyond "no crash, no sanitizer report": every complete line gets exactly one reply in
 // order (§3.2 rule 5); every line mcemu sends is a reply of §3.4 or a frame line that parses back
 // (§3.6: upper-case hex, digits = 2·DLC, CR only); the dictionary is never corrupted.
@@ -15,6 +22,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "protocols/canopen/crc16.hpp"
@@ -22,6 +30,7 @@
 #include "protocols/slcan/codec.hpp"
 #include "protocols/slcan/session.hpp"
 #include "tests/fuzz/drive_bundle.hpp"
+#include "tests/fuzz/drive_time.hpp"
 #include "tests/support/device_fixture.hpp"
 
 namespace {
@@ -29,7 +38,7 @@ namespace {
 using namespace mcemu;
 using namespace std::chrono_literals;
 
-constexpr std::uint64_t k_max_steps = 20000;
+constexpr std::uint64_t k_max_ms = 20000;  // drive time per input (header comment)
 constexpr std::uint16_t k_sdo_rx = 0x600 + 50;
 
 // One SLCAN connection: a session the bus made (it leaves the bus when destroyed).
@@ -91,10 +100,21 @@ std::string sdo_line(const std::array<std::uint8_t, 8>& d, std::uint16_t id = k_
   return slcan::encode_frame(f);
 }
 
+// The (index, sub) of every entry of the preset, for the SDO ops: the same for every input.
+std::vector<std::pair<std::uint16_t, std::uint8_t>> g_entries;
+
+mcemu::testing::DeviceOptions options() {
+  mcemu::testing::DeviceOptions o;
+  o.keep_events = false;
+  return o;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   spdlog::set_level(spdlog::level::off);
+  const mcemu::testing::DeviceFixture drive("MC349", options());
+  drive.od().for_each([](const od::EntryInfo& e, const od::Value&) { g_entries.emplace_back(e.index, e.sub); });
   return 0;
 }
 
@@ -104,28 +124,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static constexpr std::array<const char*, 3> k_acks = {"z", "cr", "none"};
   const std::uint8_t ack = r.byte() % 3;
   const int digits = (r.byte() & 1) ? 8 : 4;
-  mcemu::testing::DeviceOptions options;
-  options.keep_events = false;
-  options.config = {{"slcan", {{"frame_ack", k_acks[ack]}, {"serial_digits", digits}}}};
-  mcemu::testing::DeviceFixture drive("MC349", std::move(options));
+  mcemu::testing::DeviceOptions settings = options();
+  settings.config = {{"slcan", {{"frame_ack", k_acks[ack]}, {"serial_digits", digits}}}};
+  mcemu::testing::DeviceFixture drive("MC349", std::move(settings));
   device::CanopenBus& bus = *drive.device().canopen();
-  static const auto entries = [&] {
-    std::vector<std::pair<std::uint16_t, std::uint8_t>> v;
-    drive.od().for_each([&](const od::EntryInfo& e, const od::Value&) { v.emplace_back(e.index, e.sub); });
-    return v;
-  }();
 
   Client a(bus);
   Client b(bus);
-  drive.device().power_up_network();  // boot-up, as at the start of mcemu
-  std::uint64_t steps = 0;
-  const auto run = [&](unsigned n) {
-    for (unsigned i = 0; i < n && steps < k_max_steps; ++i, ++steps) drive.step();  // the bus too
-  };
+  drive.device().power_up_network();                             // boot-up, as at the start of mcemu
+  fuzz::DriveTime drive_time(drive.device().steps(), k_max_ms);  // the bus too
   // what the node has ready now (a completed Store, an EMCY after a write) goes out at once
   const auto flush = [&] { bus.step(std::chrono::milliseconds(0)); };
   const auto index_sub = [&](std::array<std::uint8_t, 8>& d) {
-    const auto& [index, sub] = entries[r.u16() % entries.size()];
+    const auto& [index, sub] = g_entries[r.u16() % g_entries.size()];
     d[1] = static_cast<std::uint8_t>(index);
     d[2] = static_cast<std::uint8_t>(index >> 8);
     d[3] = sub;
@@ -138,7 +149,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::uint8_t op = r.byte();
     Client& c = (op & 0x80) ? b : a;
     std::array<std::uint8_t, 8> d{};
-    switch ((op & 0x3F) % 12) {  // 0x40 and 0x80 are flags: a variant of the op, client B
+    const unsigned op_kind = (op & 0x3F) % 12;  // 0x40 and 0x80 are flags: a variant of the op, client B
+    switch (op_kind) {
       case 0: c.feed(r.bytes()); break;
       case 1: {  // one SDO request: a command specifier of CiA 301 §7.2.4 with fuzzed flags
         static constexpr std::array<std::uint8_t, 12> k_base = {0x20, 0x00, 0x40, 0x60, 0xC0, 0x00,
@@ -239,8 +251,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         break;
       }
-      case 8: run(r.byte() + 1u); break;
-      case 9: run(static_cast<unsigned>(r.byte()) * 20u); break;  // past SDO timeouts and heartbeats
+      case 8: drive_time.advance(r.byte() + 1u); break;
+      case 9: drive_time.advance(r.byte() * 20u); break;  // past SDO timeouts and heartbeats
       case 10:
         drive.storage().complete((op & 0x40) == 0);
         drive.device().handle_events();
@@ -252,6 +264,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         break;
       }
     }
+    if (op_kind != 8 && op_kind != 9) drive_time.touch();  // the server's wake after a client's input
     flush();
     a.collect();
     b.collect();
