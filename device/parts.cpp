@@ -17,7 +17,7 @@ void ScopePart::skip(std::uint64_t n) {
   const std::uint64_t first = (from + Scope::k_sample_ms - 1) / Scope::k_sample_ms * Scope::k_sample_ms;
   if (first > now) return;
   const std::uint64_t count = (now - first) / Scope::k_sample_ms + 1;
-  scope_.add_run(first, count, Scope::sample_of(od_));
+  scope_.add_run(first, count, scope_.sample_of(od_));
 }
 
 std::uint64_t RefgoPart::quiet_steps() const {

@@ -9,20 +9,22 @@ namespace mcemu::device {
 
 using nlohmann::json;
 
-namespace {
-std::int32_t read32(const od::ObjectDictionary& od, std::uint16_t index, std::uint8_t sub) {
-  const auto v = od.read_number(index, sub);
-  return v ? static_cast<std::int32_t>(*v) : 0;
-}
-}  // namespace
-
 ScopeSample Scope::sample_of(const od::ObjectDictionary& od) {
+  static constexpr std::array<std::uint16_t, 5> k_objects = {od::k_position, od::k_velocity, od::k_current,
+                                                             od::k_target_position, od::k_statusword};
+  if (source_ != &od) {
+    for (std::size_t i = 0; i < k_objects.size(); ++i) handles_[i] = od.find(k_objects[i], 0);
+    source_ = &od;
+  }
+  const auto read32 = [&](std::size_t i) {
+    return handles_[i] ? static_cast<std::int32_t>(od.number(*handles_[i])) : std::int32_t{0};
+  };
   ScopeSample s;
-  s.pos = read32(od, od::k_position, 0);
-  s.vel = read32(od, od::k_velocity, 0);
-  s.cur = read32(od, od::k_current, 0);
-  s.target = read32(od, od::k_target_position, 0);
-  s.sw = static_cast<std::uint16_t>(read32(od, od::k_statusword, 0));
+  s.pos = read32(0);
+  s.vel = read32(1);
+  s.cur = read32(2);
+  s.target = read32(3);
+  s.sw = static_cast<std::uint16_t>(read32(4));
   return s;
 }
 

@@ -9,10 +9,12 @@
 // previous call (the WebSocket "scope" message, once per period, shared by all clients).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,7 +51,9 @@ class Scope {
   // leaves (the objects do not change). O(1): the ring keeps runs of equal samples.
   void add_run(std::uint64_t time_ms, std::uint64_t count, const ScopeSample& s);
   // The objects' sample now (what on_step() would add).
-  static ScopeSample sample_of(const od::ObjectDictionary& od);
+  // The entries are looked up once per dictionary (a drive's entries never move) and then read by
+  // handle: a moving fleet samples every 5 ms per drive.
+  ScopeSample sample_of(const od::ObjectDictionary& od);
 
   // Samples from the first sample time ≥ t (at most the ring, 60 s).
   ScopeBlock since_ms(std::uint64_t t) const;
@@ -66,7 +70,9 @@ class Scope {
   ScopeBlock block_from(std::size_t first) const;
   std::uint64_t time_of(std::size_t i) const { return first_ms_ + i * k_sample_ms; }
 
-  std::deque<Run> ring_;  // runs of equal samples, oldest first; total_ samples in all
+  const od::ObjectDictionary* source_ = nullptr;        // the dictionary handles_ belong to
+  std::array<std::optional<od::Handle>, 5> handles_{};  // 6064h, 606Ch, 6078h, 607Ah, 6041h
+  std::deque<Run> ring_;                                // runs of equal samples, oldest first; total_ samples in all
   std::size_t total_ = 0;
   std::uint64_t first_ms_ = 0;     // time of ring_[0]
   std::uint64_t next_new_ms_ = 0;  // first sample time take_new() has not returned
