@@ -4,7 +4,8 @@
 of POST /api/v1/clock/advance with every drive moving). A benchmark: it prints, never asserts.
 
 CPU % of one core = (utime + stime) ticks from /proc/<pid>/stat over WINDOW s / CLK_TCK; VmRSS and
-VmHWM from /proc/<pid>/status; start-up = wall time from exec to the "ready" log line. Each (N,
+VmHWM from /proc/<pid>/status at the end of the windows (KiB/drive = VmRSS / N, the process's own
+~8 MiB included); start-up = wall time from exec to the "ready" log line. Each (N,
 mode) is measured ROUNDS times, alternating, and the median printed.
 
 usage: bench/fleet.py [BINARY] [N …]   env: WINDOW (10), ROUNDS (3), ADVANCE_MS (60000), MOVING_MAX (100)
@@ -129,8 +130,8 @@ class Fleet:
 def main():
     print(f"cpu: {os.cpu_count()} cores, load {open('/proc/loadavg').read().split()[0]}; window {WINDOW} s, "
           f"{ROUNDS} rounds, medians")
-    print(f"{'drives':>6} {'start s':>8} {'idle %':>8} {'moving %':>9} {'RSS MiB':>8} {'HWM MiB':>8} "
-          f"{'manual x':>9}")
+    print(f"{'drives':>6} {'start s':>8} {'idle %':>8} {'moving %':>9} {'RSS MiB':>8} {'KiB/drive':>9} "
+          f"{'HWM MiB':>8} {'manual x':>9}")
     for n in SIZES:
         rows = {"start": [], "idle": [], "moving": [], "rss": [], "hwm": [], "speedup": []}
         for _ in range(ROUNDS):
@@ -158,8 +159,9 @@ def main():
             finally:
                 g.close()
         med = {k: statistics.median(v) if v else float("nan") for k, v in rows.items()}
+        # RSS per drive: the process's RSS over the drives (the process itself, ~8 MiB, included)
         print(f"{n:>6} {med['start']:>8.2f} {med['idle']:>8.2f} {med['moving']:>9.1f} {med['rss']:>8.1f} "
-              f"{med['hwm']:>8.1f} {med['speedup']:>9.1f}", flush=True)
+              f"{med['rss'] * 1024 / n:>9.0f} {med['hwm']:>8.1f} {med['speedup']:>9.1f}", flush=True)
 
 
 if __name__ == "__main__":
