@@ -39,9 +39,6 @@ std::string hook_conflict(const char* kind, std::uint16_t index, std::uint8_t su
   return std::string("a second ") + kind + " hook for " + where;
 }
 
-}  // namespace
-
-namespace {
 // A number as an entry of a numeric `type` stores it (§3.2): in range, or a negative 32-bit
 // pattern for unsigned32.
 Result<std::int64_t> convert_number(DataType type, std::int64_t n) {
@@ -142,6 +139,7 @@ Result<Handle> ObjectDictionary::locate(std::uint16_t index, std::uint8_t sub) c
   }
   return has_object(index) ? AbortCode::no_sub : AbortCode::no_object;
 }
+
 std::optional<Handle> ObjectDictionary::find(std::uint16_t index, std::uint8_t sub) const {
   auto r = locate(index, sub);
   if (!r) return std::nullopt;

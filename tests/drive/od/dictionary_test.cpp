@@ -262,6 +262,40 @@ TEST(Dictionary, ChangeListenerSeesOnlyChanges) {
   EXPECT_EQ(seen[1], (std::pair<std::uint16_t, std::int64_t>{0x2007, 8}));
 }
 
+// set() takes a fast path for plain entries (a number without limits, validator or write hook):
+// it must give exactly the results of the full path — type range, unsigned32 bit pattern, no change
+// for an equal value — and stop being taken once a hook is registered, and again once it is removed.
+TEST(Dictionary, SetOnPlainEntriesMatchesTheFullPath) {
+  ObjectDictionary od(test_entries());
+  const Handle u8 = od.handle(0x2000, 0);
+  const Handle u32 = od.handle(0x2004, 0);
+  EXPECT_EQ(od.set(u8, std::int64_t{256}), AbortCode::value_too_high);
+  EXPECT_EQ(od.set(u8, std::int64_t{-1}), AbortCode::value_too_low);
+  EXPECT_EQ(od.set(u32, std::int64_t{-1}), AbortCode::none);
+  EXPECT_EQ(od.number(u32), 4294967295LL);
+  EXPECT_EQ(std::get<std::int64_t>(od.value(u32)), 4294967295LL) << "entry and compact array agree";
+  const auto before = od.generation();
+  EXPECT_EQ(od.set(u32, std::int64_t{4294967295LL}), AbortCode::none);
+  EXPECT_EQ(od.generation(), before) << "an equal value is no change";
+  EXPECT_EQ(od.set(od.handle(0x2200, 0), std::int64_t{0}), AbortCode::value_too_low) << "limits: full path";
+  EXPECT_EQ(od.set(od.handle(0x2201, 0), std::int64_t{2}), AbortCode::invalid_value) << "validator: full path";
+  EXPECT_EQ(od.set(od.handle(0x2006, 0), std::int64_t{1}), AbortCode::type_mismatch) << "string entry";
+
+  int calls = 0;
+  od.on_write(0x2000, 0, [&](WriteRequest& req) {
+    ++calls;
+    req.value = Value{std::int64_t{42}};
+    return AbortCode::none;
+  });
+  EXPECT_EQ(od.set(u8, std::int64_t{5}), AbortCode::none);
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(od.number(u8), 42) << "the hook's value is stored";
+  od.on_write(0x2000, 0, {});
+  EXPECT_EQ(od.set(u8, std::int64_t{5}), AbortCode::none);
+  EXPECT_EQ(calls, 1) << "removed hook is not called";
+  EXPECT_EQ(od.number(u8), 5);
+}
+
 TEST(Dictionary, BulkLoadChecksTypeAndLimitsButNotAccessOrHooks) {
   ObjectDictionary od(test_entries());
   bool hooked = false;
