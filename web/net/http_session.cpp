@@ -134,7 +134,6 @@ void HttpSession::on_read_error(const error_code& ec) {
 }
 
 void HttpSession::on_request() {
-  stream_.expires_never();  // the handler may answer later (a Store waits for the disk)
   auto& req = parser_->get();
   api::Request r;
   r.method = method_;
@@ -165,6 +164,10 @@ void HttpSession::on_request() {
     spdlog::error("http: {} {}: {}", method_, target_, e.what());
     if (!*answered) respond(api::error_page(500, "internal error"));
   }
+  // A handler that answers later (a Store waits for the disk) has no deadline meanwhile. One that
+  // answered already has armed the write's: no timer is cancelled and re-armed in between (each
+  // change of a pending deadline costs a handler run through the loop, per request).
+  if (!*answered && !closed_) stream_.expires_never();
 }
 
 void HttpSession::on_websocket_request(const api::Request& request) {
