@@ -88,9 +88,12 @@ void Device::log(LogLevel level, const std::string& text) const {
 // file bulk-loaded over it; an explicit --ip overlays 5007h.
 void Device::build_dictionary() {
   if (personality_->canopen && canopen_config_.dynamic_pdo_mapping) {  // slcan-canopen.md §9.7
-    auto entries = od::build_entries(preset_);
-    canopen::make_mapping_dynamic(entries);
-    od_ = std::make_unique<od::ObjectDictionary>(std::move(entries));
+    constexpr std::uint32_t k_dynamic_mapping = 1;                     // the layout variant of od::preset_layout
+    od_ = std::make_unique<od::ObjectDictionary>(od::preset_layout(preset_, k_dynamic_mapping, [this] {
+      auto entries = od::build_entries(preset_);
+      canopen::make_mapping_dynamic(entries);
+      return entries;
+    }));
   } else {
     od_ = std::make_unique<od::ObjectDictionary>(preset_);
   }

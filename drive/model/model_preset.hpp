@@ -36,6 +36,7 @@ struct Identity {
   std::string vendor_name = "Fullmo GmbH";  // EDS export
   std::string short_name;                   // web headings
   std::string display_name;                 // web title
+  friend bool operator==(const Identity&, const Identity&) = default;
 };
 
 // models.md §4. Rotary: torque N·m, inertia kg·m², B N·m·s/rad, speeds rpm.
@@ -70,6 +71,7 @@ struct Plant {
   // rotary acceleration unit as a rational number of motor rev/s² (drive-core.md §3.6)
   std::int64_t rotary_accel_unit_num = 1;
   std::int64_t rotary_accel_unit_den = 36;
+  friend bool operator==(const Plant&, const Plant&) = default;
 };
 
 struct ObjectKey {
@@ -105,6 +107,8 @@ struct ModelPreset {
   // The MovingCap I/O functions (iofunc/, 3510h–36xxh) exist only on MovingCap drives; a
   // FAULHABER drive is stepped and powered through DriveCore directly.
   bool has_io_functions() const { return family == Family::movingcap; }
+  // Every field: equal presets build equal dictionaries (od::preset_layout shares their layout).
+  friend bool operator==(const ModelPreset&, const ModelPreset&) = default;
 };
 
 // Built-in MovingCap presets, in the order of the README table.

@@ -7,17 +7,6 @@
 namespace mcemu::od {
 namespace {
 
-bool same(const Value& a, const Value& b) { return a == b; }
-
-std::int64_t number_of(const Value& v) {
-  return std::holds_alternative<std::int64_t>(v) ? std::get<std::int64_t>(v) : 0;
-}
-constexpr std::uint32_t key_of(std::uint16_t index, std::uint8_t sub) { return std::uint32_t{index} << 8 | sub; }
-// Fibonacci hashing of a key onto a slot of a power-of-two table.
-constexpr std::size_t slot_of(std::uint32_t key, std::size_t mask) {
-  return static_cast<std::size_t>((std::uint64_t{key} * 0x9E3779B97F4A7C15ull) >> 40) & mask;
-}
-
 std::int64_t decode_le(std::span<const std::byte> data, DataType type) {
   const std::size_t n = size_of(type);
   std::uint64_t raw = 0;
@@ -58,32 +47,15 @@ Result<Value> convert_for_write(const EntryInfo& info, const Value& v) {
   return Value{*n};
 }
 
-void sort_entries(std::vector<EntryInfo>& entries) {
-  // (index, sub, position) packed in one integer: a plain integer sort, stable by position.
-  std::vector<std::uint64_t> order(entries.size());
-  bool sorted = true;
-  for (std::uint32_t i = 0; i < order.size(); ++i) {
-    order[i] = (std::uint64_t{entries[i].index} << 40) | (std::uint64_t{entries[i].sub} << 32) | i;
-    if (i > 0 && (order[i] >> 32) < (order[i - 1] >> 32)) sorted = false;
-  }
-  if (sorted) return;
-  std::sort(order.begin(), order.end());
-  std::vector<EntryInfo> out;
-  out.reserve(entries.size());
-  for (const auto key : order) out.push_back(std::move(entries[static_cast<std::uint32_t>(key)]));
-  entries.swap(out);
-}
-
-ObjectDictionary::ObjectDictionary(std::vector<EntryInfo> entries) {
-  sort_entries(entries);  // the builders sort already: then this is one pass (issue 26)
-  entries_.reserve(entries.size());
-  for (auto& info : entries) {
-    Value v = info.factory;
-    entries_.push_back(Entry{std::move(info), std::move(v)});
-  }
-  build_index();
+ObjectDictionary::ObjectDictionary(std::shared_ptr<const Layout> layout)
+    : layout_(std::move(layout)), numbers_(layout_->factory_numbers()), hooks_(layout_->size()) {
+  strings_.reserve(layout_->string_handles().size());
+  for (const Handle h : layout_->string_handles()) strings_.push_back(std::get<std::string>(layout_->info(h).factory));
   install_error_history_rule();
 }
+
+ObjectDictionary::ObjectDictionary(std::vector<EntryInfo> entries)
+    : ObjectDictionary(std::make_shared<const Layout>(std::move(entries))) {}
 
 // 1003h.00 (object-dictionary.md §2.4, §5): from outside only 0 may be written, and it clears the
 // history. The drive core writes the count itself (origin internal) when it records an error.
@@ -100,46 +72,6 @@ void ObjectDictionary::install_error_history_rule() {
   });
 }
 
-void ObjectDictionary::build_index() {
-  objects_.clear();
-  numbers_.resize(entries_.size());
-  keys_.resize(entries_.size());
-  types_.resize(entries_.size());
-  plain_.resize(entries_.size());
-  for (std::uint32_t i = 0; i < entries_.size(); ++i) {
-    const auto& e = entries_[i].info;
-    numbers_[i] = number_of(entries_[i].value);
-    keys_[i] = key_of(e.index, e.sub);
-    types_[i] = e.type;
-    plain_[i] = is_plain(entries_[i]);
-    if (i > 0 && entries_[i - 1].info.index == e.index) {
-      if (entries_[i - 1].info.sub == e.sub) throw std::logic_error("duplicate OD entry");
-      ++objects_.back().count;
-    } else {
-      objects_.push_back({e.index, i, 1});
-    }
-  }
-  if (entries_.size() >= 0xFFFF) throw std::logic_error("too many OD entries for the slot table");
-  std::size_t size = 16;
-  while (size < 2 * entries_.size()) size *= 2;
-  slots_.assign(size, 0);
-  for (std::uint32_t h = 0; h < keys_.size(); ++h) {
-    std::size_t i = slot_of(keys_[h], size - 1);
-    while (slots_[i] != 0) i = (i + 1) & (size - 1);
-    slots_[i] = static_cast<std::uint16_t>(h + 1);
-  }
-}
-
-Result<Handle> ObjectDictionary::locate(std::uint16_t index, std::uint8_t sub) const {
-  const std::uint32_t key = key_of(index, sub);
-  const std::size_t mask = slots_.size() - 1;
-  for (std::size_t i = slot_of(key, mask); slots_[i] != 0; i = (i + 1) & mask) {
-    const Handle h = slots_[i] - 1u;
-    if (keys_[h] == key) return h;
-  }
-  return has_object(index) ? AbortCode::no_sub : AbortCode::no_object;
-}
-
 std::optional<Handle> ObjectDictionary::find(std::uint16_t index, std::uint8_t sub) const {
   auto r = locate(index, sub);
   if (!r) return std::nullopt;
@@ -153,20 +85,22 @@ Handle ObjectDictionary::handle(std::uint16_t index, std::uint8_t sub) const {
   return *r;
 }
 
-bool ObjectDictionary::has_object(std::uint16_t index) const {
-  auto it = std::lower_bound(objects_.begin(), objects_.end(), index,
-                             [](const ObjectSlot& s, std::uint16_t i) { return s.index < i; });
-  return it != objects_.end() && it->index == index;
-}
+bool ObjectDictionary::has_object(std::uint16_t index) const { return layout_->has_object(index); }
 
 const EntryInfo* ObjectDictionary::info(std::uint16_t index, std::uint8_t sub) const {
   auto r = locate(index, sub);
-  return r ? &entries_[*r].info : nullptr;
+  return r ? &layout_->info(*r) : nullptr;
 }
 
-Result<Value> ObjectDictionary::read_entry(const Entry& e) const {
-  if (e.read_hook == 0 || !read_hooks_[e.read_hook - 1u]) return e.value;
-  auto r = read_hooks_[e.read_hook - 1u](e.info);
+Value ObjectDictionary::value(Handle h) const {
+  const auto slot = layout_->string_slot(h);
+  return slot == Layout::k_no_string ? Value{numbers_[h]} : Value{strings_[slot]};
+}
+
+Result<Value> ObjectDictionary::read_entry(Handle h) const {
+  const auto hook = hooks_[h].read;
+  if (hook == 0 || !read_hooks_[hook - 1u]) return value(h);
+  auto r = read_hooks_[hook - 1u](layout_->info(h));
   if (!r) return AbortCode::general;
   return r;
 }
@@ -174,25 +108,24 @@ Result<Value> ObjectDictionary::read_entry(const Entry& e) const {
 AbortCode ObjectDictionary::check_upload(std::uint16_t index, std::uint8_t sub) const {
   auto h = locate(index, sub);
   if (!h) return h.error();
-  if (entries_[*h].info.access == Access::wo) return AbortCode::write_only;
+  if (layout_->info(*h).access == Access::wo) return AbortCode::write_only;
   return AbortCode::none;
 }
 
 Result<Value> ObjectDictionary::read(std::uint16_t index, std::uint8_t sub) const {
   auto h = locate(index, sub);
   if (!h) return h.error();
-  const Entry& e = entries_[*h];
-  if (e.info.access == Access::wo) return AbortCode::write_only;
-  return read_entry(e);
+  if (layout_->info(*h).access == Access::wo) return AbortCode::write_only;
+  return read_entry(*h);
 }
 
 Result<std::int64_t> ObjectDictionary::read_number(std::uint16_t index, std::uint8_t sub) const {
   auto h = locate(index, sub);
   if (!h) return h.error();
-  const Entry& e = entries_[*h];
-  if (e.info.access == Access::wo) return AbortCode::write_only;
-  if (is_string(e.info.type)) return AbortCode::type_mismatch;
-  auto v = read_entry(e);
+  const EntryInfo& info = layout_->info(*h);
+  if (info.access == Access::wo) return AbortCode::write_only;
+  if (is_string(info.type)) return AbortCode::type_mismatch;
+  auto v = read_entry(*h);
   if (!v) return v.error();
   return std::get<std::int64_t>(*v);
 }
@@ -213,44 +146,52 @@ Result<std::vector<std::byte>> ObjectDictionary::read_bytes(std::uint16_t index,
   return out;
 }
 
-AbortCode ObjectDictionary::check_limits(const Entry& e, std::int64_t v, bool bulk) const {
-  if (e.info.limits) {
-    if (v > e.info.limits->max) return AbortCode::value_too_high;
-    if (v < e.info.limits->min) return AbortCode::value_too_low;
+AbortCode ObjectDictionary::check_limits(Handle h, std::int64_t v, bool bulk) const {
+  const EntryInfo& info = layout_->info(h);
+  if (info.limits) {
+    if (v > info.limits->max) return AbortCode::value_too_high;
+    if (v < info.limits->min) return AbortCode::value_too_low;
   }
-  if (e.info.validator) {
+  if (info.validator) {
     std::optional<std::int64_t> stored;
-    if (!bulk && std::holds_alternative<std::int64_t>(e.value)) stored = std::get<std::int64_t>(e.value);
-    return e.info.validator(*this, stored, v);
+    if (!bulk && !is_string(info.type)) stored = numbers_[h];
+    return info.validator(*this, stored, v);
   }
   return AbortCode::none;
 }
 
-void ObjectDictionary::store(Entry& e, Value v) {
-  if (same(e.value, v)) return;
-  e.value = std::move(v);
-  numbers_[static_cast<std::size_t>(&e - entries_.data())] = number_of(e.value);
+void ObjectDictionary::store(Handle h, Value v) {
+  const auto slot = layout_->string_slot(h);
+  if (slot == Layout::k_no_string) {
+    const auto n = std::get<std::int64_t>(v);
+    if (numbers_[h] == n) return;
+    numbers_[h] = n;
+  } else {
+    auto& s = std::get<std::string>(v);
+    if (strings_[slot] == s) return;
+    strings_[slot] = std::move(s);
+  }
   ++generation_;
-  for (const auto& l : listeners_) l(e.info, e.value);
+  if (listeners_.empty()) return;
+  const Value now = value(h);
+  for (const auto& l : listeners_) l(layout_->info(h), now);
 }
 
 AbortCode ObjectDictionary::commit(Handle h, Value v, Origin origin, Done& done) {
-  Entry& e = entries_[h];
   if (std::holds_alternative<std::int64_t>(v)) {
-    if (auto c = check_limits(e, std::get<std::int64_t>(v), false); c != AbortCode::none) return c;
+    if (auto c = check_limits(h, std::get<std::int64_t>(v), false); c != AbortCode::none) return c;
   }
-  if (e.write_hook == 0 || !write_hooks_[e.write_hook - 1u]) {
-    store(e, std::move(v));
+  if (!hooked_write(h)) {
+    store(h, std::move(v));
     return AbortCode::none;
   }
-  WriteRequest req{e.info, origin, e.value, std::move(v), &done};
-  const AbortCode c = write_hooks_[e.write_hook - 1u](req);
+  const Value stored = value(h);
+  WriteRequest req{layout_->info(h), origin, stored, std::move(v), &done};
+  const AbortCode c = write_hooks_[hooks_[h].write - 1u](req);
   if (c != AbortCode::none) return c;
-  // The hook may have written other entries (never this vector's layout), so re-index.
-  Entry& again = entries_[h];
-  auto stored = convert_for_write(again.info, req.value);
-  if (!stored) return AbortCode::general;  // a hook produced a value the entry cannot hold: a bug
-  store(again, std::move(*stored));
+  auto converted = convert_for_write(layout_->info(h), req.value);
+  if (!converted) return AbortCode::general;  // a hook produced a value the entry cannot hold: a bug
+  store(h, std::move(*converted));
   return AbortCode::none;
 }
 
@@ -268,11 +209,11 @@ AbortCode ObjectDictionary::write_value(std::uint16_t index, std::uint8_t sub, c
                                         Done& done) {
   auto h = locate(index, sub);
   if (!h) return h.error();
-  const Entry& e = entries_[*h];
-  if (origin != Origin::internal && (e.info.access == Access::ro || e.info.access == Access::const_)) {
+  const EntryInfo& info = layout_->info(*h);
+  if (origin != Origin::internal && (info.access == Access::ro || info.access == Access::const_)) {
     return AbortCode::read_only;
   }
-  auto v = convert_for_write(e.info, value);
+  auto v = convert_for_write(info, value);
   if (!v) return v.error();
   return commit(*h, std::move(*v), origin, done);
 }
@@ -280,15 +221,15 @@ AbortCode ObjectDictionary::write_value(std::uint16_t index, std::uint8_t sub, c
 AbortCode ObjectDictionary::set(Handle h, const Value& value) {
   // The drive's own writes of its actual values, every step: for a plain entry (a number without
   // limits, validator or write hook) the compact arrays decide, and an unchanged value touches no
-  // Entry (issue 26: a fleet's drives evict each other's cache lines).
-  if (plain_[h] && std::holds_alternative<std::int64_t>(value)) {
-    const auto n = convert_number(types_[h], std::get<std::int64_t>(value));
+  // entry (issue 26: a fleet's drives evict each other's cache lines).
+  if (layout_->unchecked(h) && hooks_[h].write == 0 && std::holds_alternative<std::int64_t>(value)) {
+    const auto n = convert_number(layout_->type(h), std::get<std::int64_t>(value));
     if (!n) return n.error();
     if (*n == numbers_[h]) return AbortCode::none;
-    store(entries_[h], Value{*n});
+    store(h, Value{*n});
     return AbortCode::none;
   }
-  auto v = convert_for_write(entries_[h].info, value);
+  auto v = convert_for_write(layout_->info(h), value);
   if (!v) return v.error();
   Done none;
   return commit(h, std::move(*v), Origin::internal, none);
@@ -298,11 +239,11 @@ AbortCode ObjectDictionary::check_download(std::uint16_t index, std::uint8_t sub
                                            std::optional<std::size_t> size) const {
   auto h = locate(index, sub);
   if (!h) return h.error();
-  const Entry& e = entries_[*h];
-  if (e.info.access == Access::ro || e.info.access == Access::const_) return AbortCode::read_only;
-  if (size && !is_string(e.info.type)) {
-    const std::size_t n = size_of(e.info.type);
-    if (*size > n && !(e.info.length_tolerant && *size == 4)) return AbortCode::length_too_high;
+  const EntryInfo& info = layout_->info(*h);
+  if (info.access == Access::ro || info.access == Access::const_) return AbortCode::read_only;
+  if (size && !is_string(info.type)) {
+    const std::size_t n = size_of(info.type);
+    if (*size > n && !(info.length_tolerant && *size == 4)) return AbortCode::length_too_high;
     if (*size < n) return AbortCode::length_too_low;
   }
   return AbortCode::none;
@@ -327,28 +268,28 @@ AbortCode ObjectDictionary::write_data(std::uint16_t index, std::uint8_t sub, st
                                        SdoLength length, Origin origin, Done& done) {
   auto h = locate(index, sub);
   if (!h) return h.error();
-  const Entry& e = entries_[*h];
-  if (origin != Origin::internal && (e.info.access == Access::ro || e.info.access == Access::const_)) {
+  const EntryInfo& info = layout_->info(*h);
+  if (origin != Origin::internal && (info.access == Access::ro || info.access == Access::const_)) {
     return AbortCode::read_only;
   }
-  if (is_string(e.info.type)) {
+  if (is_string(info.type)) {
     std::string s;
     s.reserve(data.size());
     for (auto b : data) s.push_back(static_cast<char>(b));
     return commit(*h, Value{std::move(s)}, origin, done);
   }
-  const std::size_t n = size_of(e.info.type);
+  const std::size_t n = size_of(info.type);
   const std::size_t got = data.size();
   if (length == SdoLength::segmented_unindicated && got != n) return AbortCode::type_mismatch;
   if (length == SdoLength::indicated && got > n) {
-    if (!(e.info.length_tolerant && got == 4)) return AbortCode::length_too_high;
+    if (!(info.length_tolerant && got == 4)) return AbortCode::length_too_high;
     const std::int64_t v = decode_le(data, DataType::integer32);
     if (v > 65535) return AbortCode::value_too_high;
     if (v < 0) return AbortCode::value_too_low;
     return commit(*h, Value{v}, origin, done);
   }
   if (got < n) return AbortCode::length_too_low;
-  return commit(*h, Value{decode_le(data.first(n), e.info.type)}, origin, done);
+  return commit(*h, Value{decode_le(data.first(n), info.type)}, origin, done);
 }
 
 namespace {
@@ -369,18 +310,11 @@ void set_hook(std::deque<Hook>& hooks, std::uint16_t& slot, Hook hook, const cha
 }  // namespace
 
 void ObjectDictionary::on_write(std::uint16_t index, std::uint8_t sub, WriteHook hook) {
-  const Handle h = handle(index, sub);
-  set_hook(write_hooks_, entries_[h].write_hook, std::move(hook), "write", index, sub);
-  plain_[h] = is_plain(entries_[h]);
-}
-
-bool ObjectDictionary::is_plain(const Entry& e) const {
-  const bool hooked = e.write_hook != 0 && write_hooks_[e.write_hook - 1u];
-  return !is_string(e.info.type) && !e.info.limits && !e.info.validator && !hooked;
+  set_hook(write_hooks_, hooks_[handle(index, sub)].write, std::move(hook), "write", index, sub);
 }
 
 void ObjectDictionary::on_read(std::uint16_t index, std::uint8_t sub, ReadHook hook) {
-  set_hook(read_hooks_, entries_[handle(index, sub)].read_hook, std::move(hook), "read", index, sub);
+  set_hook(read_hooks_, hooks_[handle(index, sub)].read, std::move(hook), "read", index, sub);
 }
 
 void ObjectDictionary::on_change(ChangeListener listener) { listeners_.push_back(std::move(listener)); }
@@ -393,27 +327,33 @@ std::vector<LoadIssue> ObjectDictionary::load_values(std::span<const StoredValue
       issues.push_back({sv.index, sv.sub, h.error()});
       continue;
     }
-    Entry& e = entries_[*h];
-    auto v = convert_for_write(e.info, sv.value);
+    auto v = convert_for_write(layout_->info(*h), sv.value);
     if (!v) {
       issues.push_back({sv.index, sv.sub, v.error()});
       continue;
     }
     if (std::holds_alternative<std::int64_t>(*v)) {
-      if (auto c = check_limits(e, std::get<std::int64_t>(*v), true); c != AbortCode::none) {
+      if (auto c = check_limits(*h, std::get<std::int64_t>(*v), true); c != AbortCode::none) {
         issues.push_back({sv.index, sv.sub, c});
         continue;
       }
     }
-    if (!same(e.value, *v)) ++generation_;
-    e.value = std::move(*v);
-    numbers_[*h] = number_of(e.value);
+    const auto slot = layout_->string_slot(*h);
+    if (slot == Layout::k_no_string) {
+      const auto n = std::get<std::int64_t>(*v);
+      if (numbers_[*h] != n) ++generation_;
+      numbers_[*h] = n;
+    } else {
+      auto& s = std::get<std::string>(*v);
+      if (strings_[slot] != s) ++generation_;
+      strings_[slot] = std::move(s);
+    }
   }
   return issues;
 }
 
 void ObjectDictionary::for_each(const std::function<void(const EntryInfo&, const Value&)>& fn) const {
-  for (const auto& e : entries_) fn(e.info, e.value);
+  for (Handle h = 0; h < layout_->size(); ++h) fn(layout_->info(h), value(h));
 }
 
 }  // namespace mcemu::od

@@ -3,7 +3,8 @@
 // Contract:
 // - Single-threaded: every call happens on the event-loop thread. Hooks may write other entries
 //   (re-entrant writes are allowed); entries never move after construction, so Handles and
-//   EntryInfo pointers stay valid for the dictionary's lifetime.
+//   EntryInfo pointers stay valid for the dictionary's lifetime (the entries live in the shared
+//   Layout, drive/od/layout.hpp; the dictionary holds the values and hooks).
 // - Every write runs the checks of object-dictionary.md §4.1 in order; the first failure is the
 //   result and a refused write changes nothing. A write hook runs after the checks and may refuse
 //   (its code is the result), replace the value to be stored, or answer `pending` after taking
@@ -16,6 +17,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -23,6 +25,7 @@
 #include <vector>
 
 #include "drive/od/abort_code.hpp"
+#include "drive/od/layout.hpp"
 #include "drive/od/types.hpp"
 
 namespace mcemu::model {
@@ -31,36 +34,8 @@ struct ModelPreset;
 
 namespace mcemu::od {
 
-class ObjectDictionary;
-
 // Completion of a write that answered `pending` (called later on the event-loop thread).
 using Done = std::function<void(AbortCode)>;
-
-// Extra write rule of an entry beyond its data type (object-dictionary.md §5). Gets the stored
-// value (nullopt during a bulk load, where rules about the transition from the stored value do not
-// apply) and the new value; returns none or the abort code (0x06090030/31/32).
-using Validator =
-    std::function<AbortCode(const ObjectDictionary&, std::optional<std::int64_t> stored, std::int64_t next)>;
-
-struct EntryInfo {
-  std::uint16_t index = 0;
-  std::uint8_t sub = 0;
-  std::uint8_t object_code = 7;  // 7 VAR, 8 ARRAY, 9 RECORD
-  DataType type = DataType::unsigned8;
-  Access access = Access::ro;
-  PdoFlag pdo = PdoFlag::no;
-  EntryClass cls = EntryClass::live;
-  // Names are views of storage that lives as long as the process (the generated tables, literals, or
-  // static name tables of generated entries): a drive's ~800 entries are built without copying or
-  // allocating their names (issue 26: a whole drive in ≤ 50 us).
-  std::string_view name;
-  std::string_view object_name;
-  Value factory;                 // factory value of the preset (before --config)
-  std::optional<Range> limits;   // min/max of §5 (.31/.32)
-  Validator validator;           // sets and structural rules of §5 (.30)
-  bool length_tolerant = false;  // 4-byte SDO writes accepted (object-dictionary.md §3.1)
-  bool from_xdd = true;          // false for the mcemu additions of §8.3
-};
 
 // The request a write hook sees. `value` is what will be stored if the hook returns none; the hook
 // may replace it. To answer later, return AbortCode::pending after moving `*done` (may be empty).
@@ -102,15 +77,15 @@ struct LoadIssue {
   AbortCode code;
 };
 
-using Handle = std::uint32_t;
-
 class ObjectDictionary {
  public:
   // The dictionary of a preset: its XDD base, the additions of §8.3 and the factory values of §7
-  // and models.md (drive/od/model_tables.cpp).
+  // and models.md (drive/od/model_tables.cpp), in the preset's shared layout (preset_layout()).
   explicit ObjectDictionary(const model::ModelPreset& preset);
-  // A dictionary of the given entries (tests; sorted and validated here).
+  // A dictionary of the given entries (tests; sorted and validated here), in a layout of its own.
   explicit ObjectDictionary(std::vector<EntryInfo> entries);
+  // A dictionary of a layout (shared with other dictionaries), every value at its factory value.
+  explicit ObjectDictionary(std::shared_ptr<const Layout> layout);
 
   ObjectDictionary(const ObjectDictionary&) = delete;
   ObjectDictionary& operator=(const ObjectDictionary&) = delete;
@@ -158,7 +133,8 @@ class ObjectDictionary {
   bool has_object(std::uint16_t index) const;
   // Ascending (index, sub); the value is the stored value (read hooks are not run).
   void for_each(const std::function<void(const EntryInfo&, const Value&)>& fn) const;
-  std::size_t size() const { return entries_.size(); }
+  std::size_t size() const { return layout_->size(); }
+  const std::shared_ptr<const Layout>& layout() const { return layout_; }
   // Counts every change of a stored value, also by load_values(): equal counts mean no value
   // changed in between (the quiet-step checks of the clock, drive-core.md §2).
   std::uint64_t generation() const { return generation_; }
@@ -167,70 +143,50 @@ class ObjectDictionary {
   // number() reads the stored value (no hook); set() is an internal write with the full checks.
   std::optional<Handle> find(std::uint16_t index, std::uint8_t sub) const;
   Handle handle(std::uint16_t index, std::uint8_t sub) const;  // throws std::out_of_range if absent
-  const EntryInfo& info(Handle h) const { return entries_[h].info; }
+  const EntryInfo& info(Handle h) const { return layout_->info(h); }
   std::int64_t number(Handle h) const { return numbers_[h]; }
-  const Value& value(Handle h) const { return entries_[h].value; }
+  Value value(Handle h) const;
   AbortCode set(Handle h, const Value& v);
 
   // Reads of entries that must exist for the caller's model (throws std::out_of_range otherwise).
   std::int64_t number(std::uint16_t index, std::uint8_t sub) const { return number(handle(index, sub)); }
 
  private:
-  // Hooks live beside the entries, only where an entry has behaviour (issue 26): 1-based positions in
-  // write_hooks_/read_hooks_, 0 = none. Deques: a hook may register another while it runs.
-  struct Entry {
-    EntryInfo info;
-    Value value;
-    std::uint16_t write_hook = 0;
-    std::uint16_t read_hook = 0;
-  };
-  struct ObjectSlot {
-    std::uint16_t index;
-    std::uint32_t first;
-    std::uint32_t count;
+  // 1-based positions of an entry's hooks in write_hooks_/read_hooks_, 0 = none.
+  struct HookSlots {
+    std::uint16_t write = 0;
+    std::uint16_t read = 0;
   };
 
-  void build_index();
   void install_error_history_rule();
   AbortCode write_value(std::uint16_t index, std::uint8_t sub, const Value& value, Origin origin, Done& done);
   AbortCode write_data(std::uint16_t index, std::uint8_t sub, std::span<const std::byte> data, SdoLength length,
                        Origin origin, Done& done);
   // The number a tap sees for a write_bytes() of `data` (0 when there is none).
   std::int64_t number_in(std::uint16_t index, std::uint8_t sub, std::span<const std::byte> data) const;
-  // Checks 1–2 of §4.1; returns the entry or the code.
-  Result<Handle> locate(std::uint16_t index, std::uint8_t sub) const;
-  Result<Value> read_entry(const Entry& e) const;
+  Result<Handle> locate(std::uint16_t index, std::uint8_t sub) const { return layout_->locate(index, sub); }
+  Result<Value> read_entry(Handle h) const;
   // Checks 5–6 and the hook, then stores. `v` is already of the entry's kind.
   AbortCode commit(Handle h, Value v, Origin origin, Done& done);
-  AbortCode check_limits(const Entry& e, std::int64_t v, bool bulk) const;
-  void store(Entry& e, Value v);
-  bool is_plain(const Entry& e) const;  // a number without limits, validator or write hook
+  AbortCode check_limits(Handle h, std::int64_t v, bool bulk) const;
+  void store(Handle h, Value v);
+  bool hooked_write(Handle h) const { return hooks_[h].write != 0 && write_hooks_[hooks_[h].write - 1u]; }
 
-  std::vector<Entry> entries_;
-  std::vector<ObjectSlot> objects_;
+  // The shared, immutable description (entries, key hash, types); a dictionary owns only what a
+  // drive changes (issue 26): the stored numbers by handle (numbers_[h], 0 for strings: a step reads
+  // 8 bytes, not a ~200-byte entry), the strings by string slot, and the hooks.
+  std::shared_ptr<const Layout> layout_;
+  std::vector<std::int64_t> numbers_;
+  std::vector<std::string> strings_;
+  std::vector<HookSlots> hooks_;
+  // Deques: a hook may register another while it runs.
   std::deque<WriteHook> write_hooks_;
   std::deque<ReadHook> read_hooks_;
-  // The hot side of the entries, by handle (issue 26): an Entry is ~250 bytes, so a step that reads
-  // ~100 numbers from entries_ touches ~100 cache lines per drive, and a fleet's drives evict each
-  // other's. numbers_[h] mirrors entries_[h].value (0 for strings) and keys_[h] is index << 8 | sub:
-  // the numbers of a drive fit in 7 KB. slots_ is an open-addressing hash of keys_ (handle + 1, 0 =
-  // empty, a power of two ≥ 2× the entries): locate() is one or two probes instead of a ~10-step
-  // binary search over the entries.
-  std::vector<std::int64_t> numbers_;
-  std::vector<std::uint32_t> keys_;
-  std::vector<std::uint16_t> slots_;
-  // set()'s fast path: the type, and whether the entry is plain (is_plain()).
-  std::vector<DataType> types_;
-  std::vector<bool> plain_;
   std::vector<ChangeListener> listeners_;
   WriteTap tap_;
   int helper_depth_ = 0;
   std::uint64_t generation_ = 0;
 };
-
-// Sorts entries by (index, sub) — the order a dictionary keeps — moving each entry once (a sort of
-// the entries themselves moves their strings ~n log n times).
-void sort_entries(std::vector<EntryInfo>& entries);
 
 // Value-interface conversion of §3.2 steps 1–4: checks kind and data-type range; a negative value
 // for UNSIGNED32 becomes its two's-complement pattern. Returns the normalised value or the code.

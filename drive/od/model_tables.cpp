@@ -504,6 +504,7 @@ std::vector<EntryInfo> build_entries(const model::ModelPreset& preset) {
   return out;
 }
 
-ObjectDictionary::ObjectDictionary(const model::ModelPreset& preset) : ObjectDictionary(build_entries(preset)) {}
+ObjectDictionary::ObjectDictionary(const model::ModelPreset& preset)
+    : ObjectDictionary(preset_layout(preset, 0, [&] { return build_entries(preset); })) {}
 
 }  // namespace mcemu::od
