@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <boost/asio/write.hpp>
 #include <boost/beast/core/string.hpp>
 #include <boost/beast/http/empty_body.hpp>
 #include <boost/beast/http/read.hpp>
@@ -48,6 +49,18 @@ bool is_valid_upgrade(const http::request<http::string_body>& req) {
 }
 
 bool has_no_body(int status) { return (status >= 100 && status < 200) || status == 204 || status == 304; }
+
+// "Name: value\r\n"; a CR or LF inside (never from our handlers) becomes a space, so that no value
+// can end the field or the header early.
+void append_field(std::string& out, std::string_view name, std::string_view value) {
+  const auto clean = [&out](std::string_view text) {
+    for (const char c : text) out.push_back(c == '\r' || c == '\n' ? ' ' : c);
+  };
+  clean(name);
+  out.append(": ");
+  clean(value);
+  out.append("\r\n");
+}
 
 }  // namespace
 
@@ -193,22 +206,29 @@ void HttpSession::on_websocket_request(const api::Request& request) {
 
 void HttpSession::send(api::Response out, bool keep_alive) {
   keep_alive = keep_alive && !out.close;
-  auto res = std::make_shared<http::response<http::string_body>>(static_cast<http::status>(out.status), version_);
-  res->set(http::field::server, "mcemu");
-  if (!out.content_type.empty() && !has_no_body(out.status)) res->set(http::field::content_type, out.content_type);
-  for (const auto& [k, v] : out.headers) res->insert(k, v);
-  res->keep_alive(keep_alive);
-  if (!has_no_body(out.status)) {
-    // HEAD: the same headers as GET, Content-Length of the GET body, no body (web.md §1.4).
-    res->content_length(out.body.size());
-    if (!head_) res->body() = std::move(out.body);
-  }
+  const bool body = !has_no_body(out.status);
+  // The status line and fields as Beast's serializer writes them (insertion order; Connection as
+  // keep_alive() sets it), formatted into a buffer the session keeps, and the body beside it: one
+  // gather write and no allocation per response once the buffers have grown (issue 26: the API at
+  // the socket's speed; a Beast response object costs a node per field and a serializer).
+  out_head_.clear();
+  out_head_.append(version_ == 10 ? "HTTP/1.0 " : "HTTP/1.1 ").append(std::to_string(out.status)).append(" ");
+  const auto reason = http::obsolete_reason(static_cast<http::status>(out.status));
+  out_head_.append(reason.data(), reason.size()).append("\r\nServer: mcemu\r\n");
+  if (!out.content_type.empty() && body) append_field(out_head_, "Content-Type", out.content_type);
+  for (const auto& [k, v] : out.headers) append_field(out_head_, k, v);
+  if (version_ == 10 && keep_alive) out_head_.append("Connection: keep-alive\r\n");
+  if (version_ != 10 && !keep_alive) out_head_.append("Connection: close\r\n");
+  // HEAD: the same headers as GET, Content-Length of the GET body, no body (web.md §1.4).
+  if (body) out_head_.append("Content-Length: ").append(std::to_string(out.body.size())).append("\r\n");
+  out_head_.append("\r\n");
+  out_body_.clear();
+  if (body && !head_) out_body_.swap(out.body);  // HEAD: no body
   if (server_.observer_.answered) server_.observer_.answered({id_, peer_, method_, target_, out.status, polling_});
-  in_flight_ = res;
   stream_.expires_after(server_.options_.write_timeout);
-  http::async_write(stream_, *res, [self = shared_from_this(), keep_alive](const error_code& ec, std::size_t) {
+  const std::array<asio::const_buffer, 2> buffers{asio::buffer(out_head_), asio::buffer(out_body_)};
+  asio::async_write(stream_, buffers, [self = shared_from_this(), keep_alive](const error_code& ec, std::size_t) {
     if (self->closed_) return;
-    self->in_flight_.reset();
     if (ec) return self->close();
     if (!keep_alive) return self->linger();
     self->do_read_header();

@@ -52,7 +52,10 @@ class HttpSession final : public Connection, public std::enable_shared_from_this
   unsigned version_ = 11;
   bool head_ = false;
   bool polling_ = false;             // the request carried k_poll_header
-  std::shared_ptr<void> in_flight_;  // the response (or 100 Continue) being written
+  std::shared_ptr<void> in_flight_;  // the 100 Continue being written
+  // The response being written: status line and fields (kept for its capacity), and the body.
+  std::string out_head_;
+  std::string out_body_;
   std::array<char, 4096> discard_{};
   bool closed_ = false;
   bool handed_over_ = false;  // the socket now belongs to a WsSession

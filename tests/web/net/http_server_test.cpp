@@ -40,6 +40,10 @@ void handle(const api::Request& r, const api::Respond& respond, asio::io_context
   } else if (path == "/header") {
     const auto v = r.header("x-test");
     out.body = v ? std::string(*v) : "-";
+  } else if (path == "/fields") {  // extra fields in order; the second tries to end the header early
+    out.headers.emplace_back("Cache-Control", "no-store");
+    out.headers.emplace_back("X-Echo", "a\r\n\r\nInjected: yes");
+    out.body = "ok";
   } else {
     out.status = 404;
     out.body = "no";
@@ -401,6 +405,28 @@ TEST_F(HttpServerTest, HeadHasTheHeadersOfGetAndNoBody) {
   const auto n = c.read_response();
   ASSERT_TRUE(n);
   EXPECT_EQ(n->body, "GET /echo?next ");
+  EXPECT_TRUE(c.pending().empty());
+}
+
+// The bytes of a response (the session formats them itself, as Beast's serializer would): status
+// line, Server, Content-Type, the handler's fields in order, Content-Length, and a field value
+// cannot end the header.
+TEST_F(HttpServerTest, ResponseBytesAreTheStatusLineAndTheFieldsInOrder) {
+  start();
+  RawClient c(port());
+  ASSERT_TRUE(c.send(get_request("/fields")));
+  const auto r = c.read_response();
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->head,
+            "HTTP/1.1 200 OK\r\nServer: mcemu\r\nContent-Type: text/plain\r\nCache-Control: no-store\r\n"
+            "X-Echo: a    Injected: yes\r\nContent-Length: 2\r\n\r\n");
+  EXPECT_EQ(r->body, "ok");
+  ASSERT_TRUE(c.send("GET /nothing HTTP/1.0\r\nConnection: keep-alive\r\n\r\n"));
+  const auto n = c.read_response();
+  ASSERT_TRUE(n);
+  EXPECT_EQ(n->head,
+            "HTTP/1.0 404 Not Found\r\nServer: mcemu\r\nContent-Type: text/plain\r\nConnection: keep-alive\r\n"
+            "Content-Length: 2\r\n\r\n");
   EXPECT_TRUE(c.pending().empty());
 }
 
