@@ -100,7 +100,7 @@ std::shared_ptr<const Layout> preset_layout(const model::ModelPreset& preset, st
     std::weak_ptr<const Layout> layout;
   };
   constexpr std::size_t k_recent = 4;  // kept alive without a dictionary (a fuzz input's drive dies)
-  static std::vector<Known> known;  // only layouts that still live
+  static std::vector<Known> known;     // only layouts that still live
   static std::deque<std::shared_ptr<const Layout>> recent;
 
   std::shared_ptr<const Layout> found;
