@@ -44,12 +44,30 @@ void BM_Construct_MC349(benchmark::State& state) { BM_Construct(state, "MC349");
 void BM_Construct_FH_MC5005(benchmark::State& state) { BM_Construct(state, "FH_MC5005"); }
 
 // A MovingCap in Back & Forth between 0 and 10 revolutions (RefGo, refgo.md §7.7), as bench/fleet.py.
-void BM_MovingStep_MC349(benchmark::State& state) {
-  DeviceFixture d("MC349", quiet());
+// PWC enables the drive (a helper sequence that takes steps), then RR starts Back & Forth with a
+// repeat way of 10 revolutions; throws when a line is refused (the benchmark would measure a drive
+// that stands still).
+void start_back_and_forth(DeviceFixture& d) {
   d.device().power_up_network();
   auto& refgo = d.refgo();
-  for (const char* line : {"EN", "SP1000", "AC1000", "DC1000", "WT0", "RW655360", "BF"}) (void)refgo.execute(line);
+  const auto run = [&](const char* line) {
+    const auto reply = refgo.execute(line);
+    if (!reply || reply->find("error") != std::string::npos || reply->find('#') != std::string::npos) {
+      throw std::runtime_error(std::string("RefGo refused ") + line + ": " + reply.value_or("(pending)"));
+    }
+  };
+  run("PWC");
+  d.step(50);
+  for (const char* line : {"SP1000", "AC1000", "DE1000", "WT0", "RW655360", "RR"}) run(line);
   d.step(100);
+  const auto at = d.core().raw_position_inc();
+  d.step(10);
+  if (d.core().raw_position_inc() == at) throw std::runtime_error("the drive does not move");
+}
+
+void BM_MovingStep_MC349(benchmark::State& state) {
+  DeviceFixture d("MC349", quiet());
+  start_back_and_forth(d);
   for (auto _ : state) d.step();
   benchmark::DoNotOptimize(d.core().raw_position_inc());
 }
@@ -61,25 +79,34 @@ void BM_MovingFleet_MC349(benchmark::State& state) {
   std::vector<std::unique_ptr<DeviceFixture>> fleet;
   for (std::int64_t k = 0; k < state.range(0); ++k) {
     auto d = std::make_unique<DeviceFixture>("MC349", quiet());
-    d->device().power_up_network();
-    for (const char* line : {"EN", "SP1000", "AC1000", "DC1000", "WT0", "RW655360", "BF"}) {
-      (void)d->refgo().execute(line);
-    }
-    d->step(100 + static_cast<std::uint64_t>(k));  // out of phase, as real drives are
+    start_back_and_forth(*d);
+    d->step(static_cast<std::uint64_t>(k));  // out of phase, as real drives are
     fleet.push_back(std::move(d));
   }
+  std::vector<std::int64_t> before;
+  for (auto& d : fleet) before.push_back(d->core().raw_position_inc());
   for (auto _ : state) {
     for (auto& d : fleet) d->step();
   }
   state.SetItemsProcessed(state.iterations() * state.range(0));
+  // The share of drives whose axis moved during the run: a fleet that stood still would measure
+  // idle steps.
+  std::size_t moved = 0;
+  for (std::size_t k = 0; k < fleet.size(); ++k) moved += fleet[k]->core().raw_position_inc() != before[k];
+  state.counters["moved"] = static_cast<double>(moved) / static_cast<double>(fleet.size());
 }
 
 // A FAULHABER drive moving in profile position between 0 and 40000 (a step of the whole bundle).
 void BM_MovingStep_FH_MC5005(benchmark::State& state) {
   DeviceFixture d("FH_MC5005", quiet());
   d.device().power_up_network();
+  d.step();  // not ready to switch on at t = 0 (faulhaber.md §7.1)
   d.W(0x6060, 0, 1);
-  for (std::int64_t cw : {0x06, 0x0F}) d.W(0x6040, 0, cw);
+  for (std::int64_t cw : {0x06, 0x0F}) {
+    d.W(0x6040, 0, cw);
+    d.step(20);
+  }
+  if (d.core().state() != mcemu::core::PdsState::operation_enabled) throw std::runtime_error("not enabled");
   std::int64_t target = 40000;
   std::uint64_t n = 0;
   for (auto _ : state) {
@@ -91,7 +118,7 @@ void BM_MovingStep_FH_MC5005(benchmark::State& state) {
     }
     d.step();
   }
-  benchmark::DoNotOptimize(d.core().raw_position_inc());
+  state.counters["position"] = static_cast<double>(d.core().raw_position_inc());
 }
 
 // An idle drive as the clock sees it: how long it may sleep, then a skip of a minute.
