@@ -301,7 +301,6 @@ std::string status_json(const StatusInputs& in, std::uint64_t seq) {
 
 std::string StatusSnapshots::build(const StatusInputs& in) {
   const Key key{in.od.generation(),
-                in.time_ms,
                 in.state,
                 in.velocity_inc_s,
                 in.temperature_available,
@@ -314,21 +313,34 @@ std::string StatusSnapshots::build(const StatusInputs& in) {
                 in.input_count,
                 in.output_count};
   if (!key_ || !(*key_ == key)) {
-    // The body with a seq no snapshot has, split around it: a later snapshot only splices its seq in.
-    constexpr std::uint64_t k_marker = 0xFFFFFFFFFFFFFFFFULL;
-    const std::string text = status_json(in, k_marker);
-    const std::string marker = "\"seq\":" + std::to_string(k_marker);
-    const auto at = text.find(marker);
-    before_seq_ = text.substr(0, at + marker.size() - std::to_string(k_marker).size());
-    after_seq_ = text.substr(at + marker.size());
+    // The body with a seq and a drive time no snapshot has, split around both: a later snapshot
+    // only splices its seq and the drive time in (the time moves every tick, the rest rarely).
+    constexpr std::uint64_t k_seq_marker = 0xFFFFFFFFFFFFFFFFULL;
+    constexpr std::uint64_t k_time_marker = 0xFFFFFFFFFFFFFFFEULL;
+    StatusInputs marked = in;
+    marked.time_ms = k_time_marker;
+    const std::string text = status_json(marked, k_seq_marker);
+    const std::size_t seq_at = text.find(std::to_string(k_seq_marker));
+    const std::size_t time_at = text.find(std::to_string(k_time_marker));
+    const std::size_t width = std::to_string(k_seq_marker).size();  // both markers have 20 digits
+    time_first_ = time_at < seq_at;
+    const std::size_t first = std::min(seq_at, time_at);
+    const std::size_t second = std::max(seq_at, time_at);
+    parts_[0] = text.substr(0, first);
+    parts_[1] = text.substr(first + width, second - first - width);
+    parts_[2] = text.substr(second + width);
     key_ = key;
     ++built_;
   }
+  const std::string seq = std::to_string(++seq_);
+  const std::string time = std::to_string(in.time_ms);
   std::string out;
-  out.reserve(before_seq_.size() + after_seq_.size() + 20);
-  out += before_seq_;
-  out += std::to_string(++seq_);
-  out += after_seq_;
+  out.reserve(parts_[0].size() + parts_[1].size() + parts_[2].size() + 40);
+  out += parts_[0];
+  out += time_first_ ? time : seq;
+  out += parts_[1];
+  out += time_first_ ? seq : time;
+  out += parts_[2];
   return out;
 }
 

@@ -8,6 +8,7 @@
 // StatusSnapshots numbers the snapshots (`seq`: +1 per snapshot built, never repeated).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -142,10 +143,11 @@ struct StatusInputs {
 // The snapshot object without "type" (the WebSocket adds "type": "status").
 std::string status_json(const StatusInputs& in, std::uint64_t seq);
 
-// Every snapshot has the next seq (web.md §8.2), but its body is built only when something it
-// shows changed since the last one — a value of the dictionary (its generation), drive time, the
-// state, or one of the inputs from outside the dictionary — and shared by every request and
-// WebSocket subscriber until then (issue 26: status at the speed of the socket).
+// Every snapshot has the next seq (web.md §8.2) and the current drive time, but its body is built
+// only when something else it shows changed since the last one — a value of the dictionary (its
+// generation), the state, or one of the inputs from outside the dictionary — and shared by every
+// request and WebSocket subscriber until then; the seq and the time are spliced in (issue 26:
+// status at the speed of the socket; an idle drive's time moves every tick).
 class StatusSnapshots {
  public:
   std::string build(const StatusInputs& in);
@@ -155,7 +157,6 @@ class StatusSnapshots {
  private:
   struct Key {
     std::uint64_t generation = 0;
-    std::uint64_t time_ms = 0;
     core::PdsState state = core::PdsState::not_ready_to_switch_on;
     double velocity_inc_s = 0;
     bool temperature_available = true;
@@ -172,8 +173,10 @@ class StatusSnapshots {
   std::uint64_t seq_ = 0;
   std::uint64_t built_ = 0;
   std::optional<Key> key_;
-  std::string before_seq_;  // the body up to the seq value
-  std::string after_seq_;   // the body after it
+  // The body around its two values that change without a rebuild, the seq and the drive time:
+  // parts_[0] <first> parts_[1] <second> parts_[2].
+  std::array<std::string, 3> parts_;
+  bool time_first_ = false;
 };
 
 }  // namespace mcemu::web::api
