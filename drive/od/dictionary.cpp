@@ -48,7 +48,10 @@ Result<Value> convert_for_write(const EntryInfo& info, const Value& v) {
 }
 
 ObjectDictionary::ObjectDictionary(std::shared_ptr<const Layout> layout)
-    : layout_(std::move(layout)), numbers_(layout_->factory_numbers()), hooks_(layout_->size()) {
+    : layout_(std::move(layout)),
+      numbers_(layout_->factory_numbers()),
+      hooks_(layout_->size()),
+      plain_(layout_->unchecked_flags()) {
   strings_.reserve(layout_->string_handles().size());
   for (const Handle h : layout_->string_handles()) strings_.push_back(std::get<std::string>(layout_->info(h).factory));
   install_error_history_rule();
@@ -222,7 +225,7 @@ AbortCode ObjectDictionary::set(Handle h, const Value& value) {
   // The drive's own writes of its actual values, every step: for a plain entry (a number without
   // limits, validator or write hook) the compact arrays decide, and an unchanged value touches no
   // entry (issue 26: a fleet's drives evict each other's cache lines).
-  if (layout_->unchecked(h) && hooks_[h].write == 0 && std::holds_alternative<std::int64_t>(value)) {
+  if (plain_[h] && std::holds_alternative<std::int64_t>(value)) {
     const auto n = convert_number(layout_->type(h), std::get<std::int64_t>(value));
     if (!n) return n.error();
     if (*n == numbers_[h]) return AbortCode::none;
@@ -310,7 +313,9 @@ void set_hook(std::deque<Hook>& hooks, std::uint16_t& slot, Hook hook, const cha
 }  // namespace
 
 void ObjectDictionary::on_write(std::uint16_t index, std::uint8_t sub, WriteHook hook) {
-  set_hook(write_hooks_, hooks_[handle(index, sub)].write, std::move(hook), "write", index, sub);
+  const Handle h = handle(index, sub);
+  set_hook(write_hooks_, hooks_[h].write, std::move(hook), "write", index, sub);
+  plain_[h] = is_plain(h);
 }
 
 void ObjectDictionary::on_read(std::uint16_t index, std::uint8_t sub, ReadHook hook) {

@@ -171,6 +171,8 @@ class ObjectDictionary {
   AbortCode check_limits(Handle h, std::int64_t v, bool bulk) const;
   void store(Handle h, Value v);
   bool hooked_write(Handle h) const { return hooks_[h].write != 0 && write_hooks_[hooks_[h].write - 1u]; }
+  // A number without limits, validator or write hook: set() needs the compact arrays only.
+  bool is_plain(Handle h) const { return layout_->unchecked(h) && !hooked_write(h); }
 
   // The shared, immutable description (entries, key hash, types); a dictionary owns only what a
   // drive changes (issue 26): the stored numbers by handle (numbers_[h], 0 for strings: a step reads
@@ -179,6 +181,8 @@ class ObjectDictionary {
   std::vector<std::int64_t> numbers_;
   std::vector<std::string> strings_;
   std::vector<HookSlots> hooks_;
+  // is_plain() by handle, as bits (a step's writes test ~100 of them: two cache lines, not ~100).
+  std::vector<bool> plain_;
   // Deques: a hook may register another while it runs.
   std::deque<WriteHook> write_hooks_;
   std::deque<ReadHook> read_hooks_;

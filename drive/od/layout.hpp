@@ -69,7 +69,8 @@ class Layout {
 
   DataType type(Handle h) const { return types_[h]; }
   // A number without limits or validator: a write of the right type needs no check beyond its range.
-  bool unchecked(Handle h) const { return unchecked_[h] != 0; }
+  bool unchecked(Handle h) const { return unchecked_[h]; }
+  const std::vector<bool>& unchecked_flags() const { return unchecked_; }
   std::int64_t factory_number(Handle h) const { return factory_numbers_[h]; }
   const std::vector<std::int64_t>& factory_numbers() const { return factory_numbers_; }
   // Position of a string entry among the string entries (the dictionary keeps their values apart);
@@ -92,7 +93,7 @@ class Layout {
   std::vector<std::uint32_t> keys_;
   std::vector<std::uint16_t> slots_;
   std::vector<DataType> types_;
-  std::vector<std::uint8_t> unchecked_;
+  std::vector<bool> unchecked_;  // bits: a drive copies them (80 bytes) as its plain flags
   std::vector<std::int64_t> factory_numbers_;  // 0 for strings
   std::vector<std::uint16_t> string_slots_;
   std::vector<Handle> string_handles_;
