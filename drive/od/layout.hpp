@@ -93,7 +93,7 @@ class Layout {
   std::vector<std::uint32_t> keys_;
   std::vector<std::uint16_t> slots_;
   std::vector<DataType> types_;
-  std::vector<bool> unchecked_;  // bits: a drive copies them (80 bytes) as its plain flags
+  std::vector<bool> unchecked_;                // bits: a drive copies them (80 bytes) as its plain flags
   std::vector<std::int64_t> factory_numbers_;  // 0 for strings
   std::vector<std::uint16_t> string_slots_;
   std::vector<Handle> string_handles_;
