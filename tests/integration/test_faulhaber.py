@@ -414,6 +414,10 @@ class Tcp(OneShot, unittest.TestCase):
         self.assertEqual(st, 200)
         boot = c.wait_notification(lambda f: f.command == fc.BOOT, what="boot message")
         self.assertEqual(boot.raw, BOOT_MC5005)
+        # Switch on disabled follows a step after the boot message and goes to every connection:
+        # wait for it, so that a client connecting next cannot race it
+        sw = c.wait_notification(lambda f: f.command == fc.STATUSWORD, what="statusword after boot")
+        self.assertEqual(sw.statusword, 0x40)
         # a client that connects now gets nothing on connect
         with socket.create_connection(("127.0.0.1", self.port), timeout=5) as s:
             self.assertTrue(nothing_more(s))
