@@ -103,6 +103,9 @@ struct Rig {
   std::vector<Diagnostic> diagnostics;
 };
 
+// The state bits of 6041h (CiA 402 state machine), for tests that compare the state alone.
+inline constexpr std::uint16_t k_state_mask = 0x006F;
+
 // One row of a scenario table: an action, then the expectation checked after it.
 struct Row {
   std::string what;

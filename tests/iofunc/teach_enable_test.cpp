@@ -9,8 +9,6 @@
 namespace mcemu::iofunc::test {
 namespace {
 
-constexpr std::uint16_t k_state_mask = 0x006F;
-
 TEST(Teach, In8TeachesInsteadOfMoving) {
   Rig rig;
   std::int64_t here = 0;

@@ -9,8 +9,6 @@
 namespace mcemu::iofunc::test {
 namespace {
 
-constexpr std::uint16_t k_state_mask = 0x006F;
-
 // IN-4's record: function 4 on the rising edge, 1 s delay, 6300 at 500/400/200.
 void configure_in4(Rig& r) {
   r.W(0x6067, 0, 10);

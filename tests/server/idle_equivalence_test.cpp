@@ -21,6 +21,8 @@
 namespace mcemu::server {
 namespace {
 
+using Wall = sim::ClockLogic::Wall;
+
 struct Drive {
   // the bundle as the server builds it (tests/support/device_fixture.hpp); core events and I/O
   // diagnostics reach the trace through the fixture's taps
@@ -153,7 +155,6 @@ struct Result {
 Result run(Path path) {
   Drive d;
   Result r;
-  using Wall = sim::ClockLogic::Wall;
   sim::ClockLogic clock(d.steps, sim::ClockMode{});
   clock.start(Wall(0));
   const auto wall = [](std::uint64_t ms) { return Wall(static_cast<std::int64_t>(ms) * 1000000); };

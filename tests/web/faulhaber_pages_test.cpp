@@ -139,7 +139,7 @@ struct FhFixture {
   std::unique_ptr<Router> router;
 };
 
-std::optional<std::string> header(const Response& r, std::string_view name) {
+std::optional<std::string> find_header(const Response& r, std::string_view name) {
   for (const auto& [k, v] : r.headers) {
     if (k == name) return v;
   }
@@ -223,7 +223,7 @@ TEST(FhPages, EmulatorPageFromItsOwnTemplateEverythingElseRedirected) {
     for (const char* m : {"GET", "HEAD"}) {
       const auto r = f.call(m, p);
       EXPECT_EQ(r.status, 302) << m << " " << p;
-      EXPECT_EQ(header(r, "Location"), "/emulator.html") << m << " " << p;
+      EXPECT_EQ(find_header(r, "Location"), "/emulator.html") << m << " " << p;
     }
   }
   EXPECT_EQ(f.call("POST", "/program.html", "x").status, 404) << "no MovingCap upload endpoint";
@@ -287,7 +287,7 @@ TEST(FhLed, ApiLedAnswersTheStatusLedNotTheMorseSchedule) {
   auto led = [&](const char* target = "/api/v1/led") {
     const Response r = f.call("GET", target);
     EXPECT_EQ(r.status, 200) << r.body;
-    EXPECT_EQ(header(r, "Cache-Control"), "no-store");
+    EXPECT_EQ(find_header(r, "Cache-Control"), "no-store");
     return json::parse(r.body);
   };
   EXPECT_EQ(led(), (json{{"timeMs", 10}, {"personality", "faulhaber"}, {"color", "green"}, {"blink", true}}));

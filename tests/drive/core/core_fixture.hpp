@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -104,5 +105,20 @@ struct Drive {
   DriveCore& core;
   std::vector<Event> events;
 };
+
+// Shared by the homing and FAULHABER I/O tests (one definition: the unity build of the sanitizer
+// tree puts several test sources into one translation unit, tests/CMakeLists.txt).
+// A position no move of these tests reaches: the open end of a position switch's window.
+inline constexpr std::int64_t k_far = std::numeric_limits<std::int32_t>::max();
+
+// 6041h bits 10, 12 and 13: target reached, homing attained, homing error.
+inline std::uint16_t homing_bits(const Drive& d) { return d.sw() & 0x3400; }
+
+// Starts homing `method` (6098h) from operation enabled: 6040h 0x0F, then 0x1F.
+inline void start_homing(Drive& d, std::int8_t method) {
+  d.set(0x6098, 0, method);
+  d.cw(0x0F);
+  d.cw(0x1F);
+}
 
 }  // namespace mcemu::core::test

@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 
 #include "tests/drive/core/core_fixture.hpp"
 
@@ -12,16 +11,9 @@ namespace mcemu::core {
 namespace {
 
 using test::Drive;
-
-constexpr std::int64_t k_far = std::numeric_limits<std::int32_t>::max();
-
-std::uint16_t homing_bits(const Drive& d) { return d.sw() & 0x3400; }
-
-void start(Drive& d, std::int8_t method) {
-  d.set(0x6098, 0, method);
-  d.cw(0x0F);
-  d.cw(0x1F);
-}
+using test::homing_bits;
+using test::k_far;
+using test::start_homing;
 
 TEST(FaulhaberHoming, Method17FindsTheNegativeLimitSwitch) {
   PlantConfig c;
@@ -29,7 +21,7 @@ TEST(FaulhaberHoming, Method17FindsTheNegativeLimitSwitch) {
   Drive d("FH_MC5005", c);
   d.set(0x2310, 0x01, 4);  // AN165 Example A: "this is bit coded - here input 3"
   d.enable(6);
-  start(d, 17);
+  start_homing(d, 17);
   EXPECT_EQ(homing_bits(d), 0x0000) << "in progress";
   bool saw_switch = false;
   std::int64_t lowest = 0;
@@ -64,7 +56,7 @@ TEST(FaulhaberHoming, Method18FindsThePositiveLimitSwitch) {
   d.set(0x2310, 0x02, 0x10);
   d.set(0x607C, 0, 7);
   d.enable(6);
-  start(d, 18);
+  start_homing(d, 18);
   ASSERT_LE(d.step_until([&] { return homing_bits(d) == 0x1400; }, 20000), 20000u);
   EXPECT_NEAR(static_cast<double>(d.core.raw_position_inc()), 30000, 30);
   EXPECT_LE(std::llabs(d.read(0x6064) - 7), 30);
@@ -73,7 +65,7 @@ TEST(FaulhaberHoming, Method18FindsThePositiveLimitSwitch) {
 TEST(FaulhaberHoming, SwitchMethodWithoutASwitchIsAnError) {
   Drive d("FH_MC5005");
   d.enable(6);
-  start(d, 17);
+  start_homing(d, 17);
   EXPECT_EQ(homing_bits(d), 0x2000);
 }
 
@@ -94,7 +86,7 @@ TEST_P(FaulhaberBlockHoming, ReferenceAtTheStopAfterTheDelay) {
     d.set(0x60E0, 0, 500);  // AN165's master example homes with reduced torque limits
     d.set(0x60E1, 0, 500);
     d.enable(6);
-    start(d, bc.method);
+    start_homing(d, bc.method);
     std::uint64_t at_stop = 0;
     const auto ms = d.step_until(
         [&] {
@@ -122,19 +114,19 @@ TEST(FaulhaberHoming, MethodsTheDriveDoesNotHaveAreErrors) {
   for (int method : {-19, -18, -5, 1, 19, 20, 21, 22, 23, 34}) {
     Drive d("FH_MC5005");
     d.enable(6);
-    start(d, static_cast<std::int8_t>(method));
+    start_homing(d, static_cast<std::int8_t>(method));
     EXPECT_EQ(homing_bits(d), 0x2000) << method;
   }
   for (int method : {0, 35, 37}) {
     Drive d("FH_MC5005");
     d.enable(6);
-    start(d, static_cast<std::int8_t>(method));
+    start_homing(d, static_cast<std::int8_t>(method));
     d.step(10);
     EXPECT_EQ(homing_bits(d), 0x1400) << method;
   }
   Drive mc("MC349");
   mc.enable(6);
-  start(mc, -1);
+  start_homing(mc, -1);
   EXPECT_EQ(homing_bits(mc), 0x2000) << "−1…−4 are FAULHABER methods";
 }
 

@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 
 #include "tests/drive/core/core_fixture.hpp"
 
@@ -12,8 +11,8 @@ namespace mcemu::core {
 namespace {
 
 using test::Drive;
+using test::k_far;
 
-constexpr std::int64_t k_far = std::numeric_limits<std::int32_t>::max();
 constexpr std::int64_t k_bit_neg = 1 << 7;
 constexpr std::int64_t k_bit_pos = 1 << 6;
 

@@ -11,14 +11,8 @@ namespace mcemu::core {
 namespace {
 
 using test::Drive;
-
-std::uint16_t homing_bits(const Drive& d) { return d.sw() & 0x3400; }
-
-void start_homing(Drive& d, std::int8_t method) {
-  d.set(0x6098, 0, method);
-  d.cw(0x0F);
-  d.cw(0x1F);
-}
+using test::homing_bits;
+using test::start_homing;
 
 TEST(Homing, Method35SetsPositionAtOnceWithTenMsPulse) {
   Drive d;

@@ -9,15 +9,12 @@
 
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
+#include "tests/drive/od/preset_fixture.hpp"
 
 namespace mcemu::od {
 namespace {
 
-model::ModelPreset preset(std::string_view name) {
-  auto p = model::find_preset(name);
-  if (!p) throw std::runtime_error("no preset");
-  return *p;
-}
+using test::preset;
 
 struct Row {
   std::uint16_t index;

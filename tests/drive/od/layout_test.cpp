@@ -7,15 +7,12 @@
 #include "drive/model/model_preset.hpp"
 #include "drive/od/dictionary.hpp"
 #include "drive/od/model_tables.hpp"
+#include "tests/drive/od/preset_fixture.hpp"
 
 namespace mcemu::od {
 namespace {
 
-model::ModelPreset preset(std::string_view name) {
-  auto p = model::find_preset(name);
-  if (!p) throw std::logic_error("no preset");
-  return *p;
-}
+using test::preset;
 
 TEST(PresetLayout, EqualPresetsShareOneLayoutAndNoValues) {
   ObjectDictionary a(preset("MC349"));

@@ -20,6 +20,12 @@ namespace mcemu::canopen::test {
 
 using namespace std::chrono_literals;
 
+// One step of a worked example: a request line and the response lines it must produce.
+struct Exchange {
+  std::string request;
+  std::string response;
+};
+
 inline can::Frame frame(std::string_view line) {
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
   auto r = slcan::parse_line(line);

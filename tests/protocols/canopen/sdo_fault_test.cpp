@@ -10,11 +10,6 @@ namespace {
 
 constexpr std::uint32_t k_code = 0x08000020;  // "cannot be stored": any code the test names
 
-struct Exchange {
-  std::string request;
-  std::string response;
-};
-
 struct AbortCase {
   const char* name;
   std::uint16_t index;

@@ -7,11 +7,6 @@
 namespace mcemu::canopen::test {
 namespace {
 
-struct Exchange {
-  std::string request;
-  std::string response;
-};
-
 struct Worked {
   const char* name;
   std::vector<Exchange> steps;

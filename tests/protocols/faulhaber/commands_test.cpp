@@ -16,6 +16,7 @@ namespace mcemu::faulhaber {
 namespace {
 
 using test::bytes;
+using test::request;
 
 struct Fixture {
   std::unique_ptr<od::ObjectDictionary> od = test::make_dictionary();
@@ -41,8 +42,6 @@ struct Fixture {
   std::int64_t value(std::uint16_t index, std::uint8_t sub) const { return *od->read_number(index, sub); }
 };
 
-// A request built from its parts (node 1).
-std::string request(std::uint8_t cmd, std::string_view data_hex) { return hex(encode(Frame{1, cmd, bytes(data_hex)})); }
 std::string error(std::uint16_t index, std::uint8_t sub, std::uint32_t code, std::uint8_t node = 1) {
   return hex(encode(sdo_error_response(node, index, sub, code)));
 }

@@ -11,13 +11,13 @@
 namespace mcemu::faulhaber {
 namespace {
 
-struct Case {
+struct SummaryCase {
   std::string_view hex;
   Direction dir;
   const char* summary;
 };
 
-const Case k_cases[] = {
+const SummaryCase k_cases[] = {
     {"53 07 01 01 41 60 00 73 45", Direction::to_drive, "SDO read 6041.00"},
     {"53 09 01 01 41 60 00 27 04 F4 45", Direction::to_host, "SDO read 6041.00 → 0x0427"},
     {"53 0B 01 01 05 30 09 FF FF FF FF 9D 45", Direction::to_host, "SDO read 3005.09 → 0xFFFFFFFF"},

@@ -19,13 +19,11 @@ namespace {
 
 using namespace std::chrono_literals;
 using test::bytes;
+using test::request;
 using test::wire;
 
 std::string hex_of(const std::string& s) {
   return hex(std::span(reinterpret_cast<const std::uint8_t*>(s.data()), s.size()));
-}
-std::string request(std::uint8_t cmd, std::string_view data_hex, std::uint8_t node = 1) {
-  return hex(encode(Frame{node, cmd, bytes(data_hex)}));
 }
 std::string frame_hex(const Frame& f) { return hex(encode(f)); }
 // Hex strings joined as the output of one connection.

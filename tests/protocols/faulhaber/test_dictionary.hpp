@@ -1,6 +1,6 @@
 // A small FAULHABER-like dictionary for the protocol tests (the real one is built elsewhere):
 // the entries the examples of faulhaber.md §5/§6 touch, with the §6 rule of 0x2400.05 as a
-// validator, plus helpers to turn hex text into bytes.
+// validator, plus helpers to turn hex text into bytes and to build a request.
 #pragma once
 
 #include <cstdint>
@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "drive/od/dictionary.hpp"
+#include "protocols/faulhaber/describe.hpp"
+#include "protocols/faulhaber/frame.hpp"
 
 namespace mcemu::faulhaber::test {
 
@@ -84,5 +86,10 @@ inline std::vector<std::uint8_t> bytes(std::string_view text) {
 
 inline std::string chars(const std::vector<std::uint8_t>& b) { return std::string(b.begin(), b.end()); }
 inline std::string wire(std::string_view text) { return chars(bytes(text)); }
+
+// A request to node `node` built from its parts, as the hex of its wire bytes.
+inline std::string request(std::uint8_t cmd, std::string_view data_hex, std::uint8_t node = 1) {
+  return hex(encode(Frame{node, cmd, bytes(data_hex)}));
+}
 
 }  // namespace mcemu::faulhaber::test
