@@ -74,8 +74,8 @@ const std::vector<FaultInjections::KindRow>& FaultInjections::kinds() {
 
 FaultInjections::FaultInjections(od::ObjectDictionary& od, core::DriveCore& core) : od_(od), core_(core) {
   if (const auto v = od_.read_number(od::k_mfr_status, 0)) last_1002_ = static_cast<std::uint32_t>(*v);
-  od_.on_change([this, alive = alive_.watch()](const od::EntryInfo& info, const od::Value& value) {
-    if (info.index != od::k_mfr_status || info.sub != 0 || !alive) return;
+  od_.on_change({{od::k_mfr_status, 0}}, [this, alive = alive_.watch()](const od::EntryInfo&, const od::Value& value) {
+    if (!alive) return;
     if (const auto* n = std::get_if<std::int64_t>(&value)) on_fault_bits(static_cast<std::uint32_t>(*n));
   });
   transport_.set_removed_listener([this](const std::string& id, std::string_view reason) {

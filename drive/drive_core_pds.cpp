@@ -234,16 +234,21 @@ void DriveCore::timed_transitions() {
 // A 9 in the high byte requires the input high, else a 9 in the low byte requires it low
 // (iofunc.md §4.11); all such inputs must agree.
 bool DriveCore::sw_enable_ok() const {
-  for (int i = 0; i < 10; ++i) {
-    const std::int64_t f = ctx_.num(ctx_.h.input_function[static_cast<std::size_t>(i)]);
-    const bool level = ctx_.input_level(i + 1);
-    if (((f >> 8) & 0xFF) == 9) {
-      if (!level) return false;
-    } else if ((f & 0xFF) == 9 && level) {
-      return false;
+  auto& m = enable_masks_;
+  const std::uint64_t generation = ctx_.od.settings_generation();
+  if (!m.valid || m.settings_generation != generation) {
+    m = EnableMasks{generation, 0, 0, true};
+    for (int i = 0; i < 10; ++i) {
+      const std::int64_t f = ctx_.num(ctx_.h.input_function[static_cast<std::size_t>(i)]);
+      const std::uint32_t bit = 1u << (16 + i);  // input i + 1 (CoreContext::input_level)
+      if (((f >> 8) & 0xFF) == 9) {
+        m.high |= bit;
+      } else if ((f & 0xFF) == 9) {
+        m.low |= bit;
+      }
     }
   }
-  return true;
+  return (ctx_.inputs & m.high) == m.high && (ctx_.inputs & m.low) == 0;
 }
 
 bool DriveCore::hw_enable_ok() const { return !params_.hw_enable_fitted || ctx_.input_level(params_.hw_enable_input); }

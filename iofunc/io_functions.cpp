@@ -72,28 +72,11 @@ void IoFunctions::install_hooks() {
       return od::AbortCode::none;
     });
   }
-  od_.on_change([this](const od::EntryInfo& info, const od::Value&) { on_entry_changed(info); });
-}
-
-// After the store: entries whose new value changes what the core or the outputs compute.
-void IoFunctions::on_entry_changed(const od::EntryInfo& info) {
-  struct Row {
-    std::uint16_t first;
-    std::uint16_t last;
-    std::uint8_t sub;
-    void (IoFunctions::*action)();
-  };
-  static constexpr std::array<Row, 3> k_rows = {
-      Row{0x3510, 0x3510, 1, &IoFunctions::recompute_inputs},  // virtual inputs (§2.1)
-      Row{0x60FE, 0x60FE, 1, &IoFunctions::recompute_inputs},  // a combined pin may have changed
-      Row{0x3611, 0x3614, 1, &IoFunctions::write_outputs},     // output function switched
-  };
-  for (const Row& r : k_rows) {
-    if (info.index >= r.first && info.index <= r.last && info.sub == r.sub) {
-      (this->*r.action)();
-      return;
-    }
-  }
+  // After the store, entries whose new value changes what the core or the outputs compute: the
+  // virtual inputs (§2.1) and 60FEh (a combined pin may have changed); an output function switched.
+  od_.on_change({{0x3510, 1}, {0x60FE, 1}}, [this](const od::EntryInfo&, const od::Value&) { recompute_inputs(); });
+  od_.on_change({{0x3611, 1}, {0x3612, 1}, {0x3613, 1}, {0x3614, 1}},
+                [this](const od::EntryInfo&, const od::Value&) { write_outputs(); });
 }
 
 void IoFunctions::recompute_inputs() { core_.recompute_inputs(); }

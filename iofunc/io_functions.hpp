@@ -85,7 +85,6 @@ class IoFunctions {
   // io_functions.cpp
   void install_hooks();
   void on_inputs_changed(std::uint32_t old_word, std::uint32_t new_word);
-  void on_entry_changed(const od::EntryInfo& info);
   void recompute_inputs();
   void reset_volatile();
   void check_enable_loss();

@@ -51,7 +51,8 @@ ObjectDictionary::ObjectDictionary(std::shared_ptr<const Layout> layout)
     : layout_(std::move(layout)),
       numbers_(layout_->factory_numbers()),
       hooks_(layout_->size()),
-      plain_(layout_->unchecked_flags()) {
+      plain_(layout_->unchecked_flags()),
+      watched_(layout_->size()) {
   strings_.reserve(layout_->string_handles().size());
   for (const Handle h : layout_->string_handles()) strings_.push_back(std::get<std::string>(layout_->info(h).factory));
   install_error_history_rule();
@@ -175,9 +176,12 @@ void ObjectDictionary::store(Handle h, Value v) {
     strings_[slot] = std::move(s);
   }
   ++generation_;
-  if (listeners_.empty()) return;
+  if (layout_->setting(h)) ++settings_generation_;
+  if (!watched_[h]) return;
   const Value now = value(h);
-  for (const auto& l : listeners_) l(layout_->info(h), now);
+  for (std::size_t i = 0; i < listeners_.size(); ++i) {  // a listener may register another
+    if (listeners_[i].entries.empty() || listeners_[i].entries[h]) listeners_[i].fn(layout_->info(h), now);
+  }
 }
 
 AbortCode ObjectDictionary::commit(Handle h, Value v, Origin origin, Done& done) {
@@ -322,7 +326,22 @@ void ObjectDictionary::on_read(std::uint16_t index, std::uint8_t sub, ReadHook h
   set_hook(read_hooks_, hooks_[handle(index, sub)].read, std::move(hook), "read", index, sub);
 }
 
-void ObjectDictionary::on_change(ChangeListener listener) { listeners_.push_back(std::move(listener)); }
+void ObjectDictionary::on_change(ChangeListener listener) {
+  listeners_.push_back({{}, std::move(listener)});
+  watched_.assign(watched_.size(), true);
+}
+
+void ObjectDictionary::on_change(std::initializer_list<std::pair<std::uint16_t, std::uint8_t>> entries,
+                                 ChangeListener listener) {
+  std::vector<bool> mine(layout_->size());
+  for (const auto& [index, sub] : entries) {
+    if (const auto h = find(index, sub)) {
+      mine[*h] = true;
+      watched_[*h] = true;
+    }
+  }
+  listeners_.push_back({std::move(mine), std::move(listener)});
+}
 
 std::vector<LoadIssue> ObjectDictionary::load_values(std::span<const StoredValue> values) {
   std::vector<LoadIssue> issues;
@@ -346,11 +365,17 @@ std::vector<LoadIssue> ObjectDictionary::load_values(std::span<const StoredValue
     const auto slot = layout_->string_slot(*h);
     if (slot == Layout::k_no_string) {
       const auto n = std::get<std::int64_t>(*v);
-      if (numbers_[*h] != n) ++generation_;
+      if (numbers_[*h] != n) {
+        ++generation_;
+        ++settings_generation_;  // a bulk load counts as a change of settings, whatever it loads
+      }
       numbers_[*h] = n;
     } else {
       auto& s = std::get<std::string>(*v);
-      if (strings_[slot] != s) ++generation_;
+      if (strings_[slot] != s) {
+        ++generation_;
+        ++settings_generation_;
+      }
       strings_[slot] = std::move(s);
     }
   }

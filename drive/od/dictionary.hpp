@@ -17,11 +17,13 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "drive/od/abort_code.hpp"
@@ -107,7 +109,11 @@ class ObjectDictionary {
   // throws std::logic_error (an empty hook removes the one there).
   void on_write(std::uint16_t index, std::uint8_t sub, WriteHook hook);
   void on_read(std::uint16_t index, std::uint8_t sub, ReadHook hook);
+  // Called after a stored value changed (not by load_values()). The second form watches only the
+  // entries named (those the dictionary lacks are skipped): a change of any other entry does not
+  // call it, so the actual values a moving drive writes every step cost it nothing (issue 26).
   void on_change(ChangeListener listener);
+  void on_change(std::initializer_list<std::pair<std::uint16_t, std::uint8_t>> entries, ChangeListener listener);
   // The one write tap (empty = none, the default): called after every write() and write_bytes() —
   // not set() and not load_values(). Without a tap a write costs one branch more.
   void set_write_tap(WriteTap tap) { tap_ = std::move(tap); }
@@ -138,6 +144,10 @@ class ObjectDictionary {
   // Counts every change of a stored value, also by load_values(): equal counts mean no value
   // changed in between (the quiet-step checks of the clock, drive-core.md §2).
   std::uint64_t generation() const { return generation_; }
+  // The same for the entries a master can write (Layout::setting): a moving drive changes its
+  // actual values every step, its settings rarely, so a cache of what settings imply (the core's
+  // enable masks) stays valid while this count does.
+  std::uint64_t settings_generation() const { return settings_generation_; }
 
   // Fast paths for components that own entries (the drive core). find() resolves once;
   // number() reads the stored value (no hook); set() is an internal write with the full checks.
@@ -186,10 +196,16 @@ class ObjectDictionary {
   // Deques: a hook may register another while it runs.
   std::deque<WriteHook> write_hooks_;
   std::deque<ReadHook> read_hooks_;
-  std::vector<ChangeListener> listeners_;
+  struct Listener {
+    std::vector<bool> entries;  // by handle; empty: every entry
+    ChangeListener fn;
+  };
+  std::vector<Listener> listeners_;
+  std::vector<bool> watched_;  // by handle: a listener wants the entry
   WriteTap tap_;
   int helper_depth_ = 0;
   std::uint64_t generation_ = 0;
+  std::uint64_t settings_generation_ = 0;
 };
 
 // Value-interface conversion of §3.2 steps 1–4: checks kind and data-type range; a negative value

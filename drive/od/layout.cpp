@@ -40,12 +40,14 @@ Layout::Layout(std::vector<EntryInfo> entries) : entries_(std::move(entries)) {
   keys_.resize(n);
   types_.resize(n);
   unchecked_.resize(n);
+  setting_.resize(n);
   factory_numbers_.resize(n);
   string_slots_.assign(n, k_no_string);
   for (std::uint32_t i = 0; i < n; ++i) {
     const auto& e = entries_[i];
     keys_[i] = key_of(e.index, e.sub);
     types_[i] = e.type;
+    setting_[i] = e.access == Access::rw || e.access == Access::wo;
     // A factory value of the wrong kind is a builder's bug: stored as it is, it would read back as
     // something its type refuses.
     if (std::holds_alternative<std::string>(e.factory) != is_string(e.type)) {

@@ -71,6 +71,8 @@ class Layout {
   // A number without limits or validator: a write of the right type needs no check beyond its range.
   bool unchecked(Handle h) const { return unchecked_[h]; }
   const std::vector<bool>& unchecked_flags() const { return unchecked_; }
+  // A master can write the entry (rw or wo): a setting, not a value the drive reports.
+  bool setting(Handle h) const { return setting_[h]; }
   std::int64_t factory_number(Handle h) const { return factory_numbers_[h]; }
   const std::vector<std::int64_t>& factory_numbers() const { return factory_numbers_; }
   // Position of a string entry among the string entries (the dictionary keeps their values apart);
@@ -93,7 +95,8 @@ class Layout {
   std::vector<std::uint32_t> keys_;
   std::vector<std::uint16_t> slots_;
   std::vector<DataType> types_;
-  std::vector<bool> unchecked_;                // bits: a drive copies them (80 bytes) as its plain flags
+  std::vector<bool> unchecked_;  // bits: a drive copies them (80 bytes) as its plain flags
+  std::vector<bool> setting_;
   std::vector<std::int64_t> factory_numbers_;  // 0 for strings
   std::vector<std::uint16_t> string_slots_;
   std::vector<Handle> string_handles_;

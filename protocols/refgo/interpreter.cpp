@@ -48,9 +48,9 @@ std::optional<Outcome> check_argument(const CommandRow& row, const Lexed& line, 
 
 Interpreter::Interpreter(od::ObjectDictionary& od, core::DriveCore& core)
     : od_(od), core_(core), programs_({core, od, od::Origin::refgo}) {
-  od_.on_change([this](const od::EntryInfo& e, const od::Value&) {
-    const bool motion_object = (e.index == 0x6040 || e.index == 0x6060 || e.index == 0x60FF) && e.sub == 0;
-    if (motion_object && !programs_.own_write()) programs_.stop_all();
+  // A master's write of a motion object ends a running program (the program's own writes do not).
+  od_.on_change({{0x6040, 0}, {0x6060, 0}, {0x60FF, 0}}, [this](const od::EntryInfo&, const od::Value&) {
+    if (!programs_.own_write()) programs_.stop_all();
   });
 }
 

@@ -1,6 +1,7 @@
 // Faults, EMCY and injection (drive-core.md §11, §10.6, §10.7, §4.6, §15 items 14–16).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "tests/drive/core/core_fixture.hpp"
@@ -408,6 +409,31 @@ TEST(Enable, SoftwareEnableFunctionNine) {
   d.cw(0x06);
   d.cw(0x07);
   EXPECT_EQ(d.core.state(), PdsState::switched_on);
+}
+
+// The core keeps what 3511h…351Ah require for Software Enable until a setting changes
+// (ObjectDictionary::settings_generation): a function 9 that arrives while the drive runs — by a
+// write or by a bulk load — still takes the enable away in the next steps.
+TEST(Enable, SoftwareEnableFunctionArrivingWhileEnabled) {
+  for (const bool bulk : {false, true}) {
+    Drive d;
+    d.enable(3);
+    d.set(0x60FF, 0, 500);
+    d.step(50);
+    ASSERT_EQ(d.core.state(), PdsState::operation_enabled);
+    ASSERT_TRUE(d.core.software_enabled());
+    if (bulk) {
+      const std::array<od::StoredValue, 1> load{od::StoredValue{0x3511, 1, std::int64_t{0x0900}}};
+      ASSERT_TRUE(d.od.load_values(load).empty());
+    } else {
+      d.set(0x3511, 1, 0x0900);  // IN1 is low
+    }
+    EXPECT_FALSE(d.core.software_enabled()) << (bulk ? "load" : "write");
+    d.step(2000);
+    EXPECT_EQ(d.core.state(), PdsState::switch_on_disabled) << (bulk ? "load" : "write");
+    d.core.set_external_input_level(1, true);
+    EXPECT_TRUE(d.core.software_enabled()) << "the input level is read every time";
+  }
 }
 
 // ---- connection abort (§11.6)

@@ -262,6 +262,45 @@ TEST(Dictionary, ChangeListenerSeesOnlyChanges) {
   EXPECT_EQ(seen[1], (std::pair<std::uint16_t, std::int64_t>{0x2007, 8}));
 }
 
+// A listener that names its entries is called for those alone; one that names none of the
+// dictionary's entries is never called, and an unnamed listener still sees every change.
+TEST(Dictionary, ChangeListenerForNamedEntries) {
+  ObjectDictionary od(test_entries());
+  std::vector<std::uint16_t> named, absent, all;
+  od.on_change({{0x2000, 0}, {0x2100, 1}}, [&](const EntryInfo& i, const Value&) { named.push_back(i.index); });
+  od.on_change({{0x7000, 0}}, [&](const EntryInfo& i, const Value&) { absent.push_back(i.index); });
+  od.write(0x2000, 0, std::int64_t{1}, Origin::sdo);
+  od.write(0x2001, 0, std::int64_t{2}, Origin::sdo);
+  od.set(od.handle(0x2007, 0), std::int64_t{8});
+  od.on_change([&](const EntryInfo& i, const Value&) { all.push_back(i.index); });
+  od.write(0x2100, 1, std::int64_t{3}, Origin::sdo);
+  od.write(0x2100, 3, std::int64_t{4}, Origin::sdo);
+  EXPECT_EQ(named, (std::vector<std::uint16_t>{0x2000, 0x2100}));
+  EXPECT_TRUE(absent.empty());
+  EXPECT_EQ(all, (std::vector<std::uint16_t>{0x2100, 0x2100}));
+}
+
+// settings_generation() counts changes of the entries a master can write (rw, wo) and every bulk
+// load; the drive's own values (ro) and unchanged writes leave it alone. generation() counts all.
+TEST(Dictionary, SettingsGenerationCountsWritableEntriesOnly) {
+  ObjectDictionary od(test_entries());
+  const auto s0 = od.settings_generation();
+  const auto g0 = od.generation();
+  od.set(od.handle(0x2007, 0), std::int64_t{8});  // ro
+  EXPECT_EQ(od.settings_generation(), s0);
+  EXPECT_EQ(od.generation(), g0 + 1);
+  od.write(0x2000, 0, std::int64_t{0}, Origin::sdo);  // unchanged
+  EXPECT_EQ(od.settings_generation(), s0);
+  od.write(0x2000, 0, std::int64_t{1}, Origin::sdo);  // rw
+  EXPECT_EQ(od.settings_generation(), s0 + 1);
+  od.write(0x2008, 0, std::int64_t{1}, Origin::sdo);  // wo
+  EXPECT_EQ(od.settings_generation(), s0 + 2);
+  const std::array<StoredValue, 1> load{StoredValue{0x2007, 0, std::int64_t{9}}};
+  od.load_values(load);  // a bulk load of an ro entry still counts
+  EXPECT_EQ(od.settings_generation(), s0 + 3);
+  EXPECT_EQ(od.generation(), g0 + 4);
+}
+
 // set() takes a fast path for plain entries (a number without limits, validator or write hook):
 // it must give exactly the results of the full path — type range, unsigned32 bit pattern, no change
 // for an equal value — and stop being taken once a hook is registered, and again once it is removed.
