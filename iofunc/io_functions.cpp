@@ -49,10 +49,8 @@ void IoFunctions::install_hooks() {
   }
   od_.on_write(0x60FE, 1, [this](od::WriteRequest& req) {
     // only manual outputs take the written bits; the stored word is the composed one (§2.2)
-    std::uint32_t manual = 0;
-    for (std::size_t k = 0; k < h_.out.size(); ++k) {
-      if (num(h_.out[k].function) == 0) manual |= output_bit(k);
-    }
+    const auto& masks = output_masks();
+    const std::uint32_t manual = masks.all & ~masks.owned;
     const auto written = static_cast<std::uint32_t>(as_int(req.value));
     if (((written ^ compose()) & k_output_mask & ~manual) != 0 && req.origin != od::Origin::internal) {
       note(core::DiagnosticLevel::debug, "60FEh.01: outputs owned by an output function keep their level");
@@ -235,8 +233,9 @@ void IoFunctions::update_outputs() {
   // The snapshot (~25 reads) only when an output function owns an output: most drives have none.
   std::optional<DriveSnapshot> s;
   std::uint32_t levels = 0;
+  const std::uint32_t owned = output_masks().owned;
   for (std::size_t k = 0; k < h_.out.size(); ++k) {
-    if (num(h_.out[k].function) == 0) continue;
+    if ((owned & output_bit(k)) == 0) continue;
     if (!s) s = snapshot();
     if (output_level(output_config(k), static_cast<int>(k + 1), *s, core_.scaling())) levels |= output_bit(k);
   }
@@ -245,12 +244,20 @@ void IoFunctions::update_outputs() {
 }
 
 std::uint32_t IoFunctions::compose() const {
-  std::uint32_t word = 0;
+  const auto& m = output_masks();
+  return (levels_ & m.owned) | (latch_ & m.all & ~m.owned);
+}
+
+const IoFunctions::OutputMasks& IoFunctions::output_masks() const {
+  auto& m = output_masks_;
+  const std::uint64_t generation = od_.settings_generation();
+  if (m.valid && m.settings_generation == generation) return m;
+  m = OutputMasks{generation, 0, 0, true};
   for (std::size_t k = 0; k < h_.out.size(); ++k) {
-    const bool owned = num(h_.out[k].function) != 0;
-    word |= (owned ? levels_ : latch_) & output_bit(k);
+    m.all |= output_bit(k);
+    if (num(h_.out[k].function) != 0) m.owned |= output_bit(k);
   }
-  return word;
+  return m;
 }
 
 void IoFunctions::write_outputs() {

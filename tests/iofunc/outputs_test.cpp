@@ -2,6 +2,7 @@
 // the 60FEh.01 ownership rules and IO-X on the combined pins of MCFLAT.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdlib>
 
 #include "tests/iofunc/io_fixture.hpp"
@@ -430,6 +431,28 @@ TEST(CombinedPins, LoopAdvancesOneEdgePerStep) {
   EXPECT_EQ(rig.R(0x3512, 3), 0);
   rig.step();
   EXPECT_EQ(rig.R(0x3512, 3), 1);
+}
+
+// The outputs an output function owns are cached by the settings generation: a function that
+// arrives by a bulk load (a restore) takes the output in the next step like a written one, and a
+// manual level no longer reaches an owned output.
+TEST(OutputOwnership, FunctionLoadedInBulkTakesTheOutput) {
+  Rig rig;
+  rig.enable();
+  rig.step();
+  ASSERT_NE(rig.sw() & 0x0004, 0) << "operation enabled";
+  EXPECT_FALSE(rig.out(1)) << "manual, low";
+  const std::array<od::StoredValue, 2> load{od::StoredValue{0x3611, 1, std::int64_t{1}},
+                                            od::StoredValue{0x3611, 2, std::int64_t{0x0004}}};
+  ASSERT_TRUE(rig.od.load_values(load).empty());
+  rig.step();
+  EXPECT_TRUE(rig.out(1)) << "statusword monitor on bit 2 (operation enabled)";
+  rig.W(0x3611, 2, 0x0040);  // switch on disabled: low while enabled
+  rig.step();
+  EXPECT_FALSE(rig.out(1));
+  rig.W(0x60FE, 1, 1 << 16);  // a manual level does not reach an owned output
+  rig.step();
+  EXPECT_FALSE(rig.out(1));
 }
 
 }  // namespace
