@@ -22,19 +22,23 @@ std::uint32_t DriveCore::compute_inputs() const {
 }
 
 std::uint32_t DriveCore::physical_inputs() const {
+  // Input n is high when its external level is, when a position switch on it covers the position,
+  // or when it is a combined pin whose output is high. One pass over each source (a step runs this
+  // for every drive of a fleet).
+  const auto bit = [](int n) { return n >= 1 && n <= 10 ? 1u << (15 + n) : 0u; };
   std::uint32_t physical = 0;
-  const std::int64_t raw = raw_position_inc();  // switches see the mechanics, not the encoder noise
-  const std::int64_t outputs = ctx_.num(ctx_.h.outputs);
   for (int n = 1; n <= 10; ++n) {
-    bool level = external_level_[static_cast<std::size_t>(n)];
-    for (const auto& sw : params_.position_switches) {
-      if (sw.input == n && raw >= sw.from_inc && raw <= sw.to_inc) level = true;
+    if (external_level_[static_cast<std::size_t>(n)]) physical |= bit(n);
+  }
+  const std::int64_t raw = raw_position_inc();  // switches see the mechanics, not the encoder noise
+  for (const auto& sw : params_.position_switches) {
+    if (raw >= sw.from_inc && raw <= sw.to_inc) physical |= bit(sw.input);
+  }
+  if (!preset_.combined_pins.empty()) {
+    const std::int64_t outputs = ctx_.num(ctx_.h.outputs);
+    for (const int n : preset_.combined_pins) {
+      if ((outputs >> (15 + n)) & 1) physical |= bit(n);
     }
-    if (std::find(preset_.combined_pins.begin(), preset_.combined_pins.end(), n) != preset_.combined_pins.end() &&
-        ((outputs >> (15 + n)) & 1)) {
-      level = true;
-    }
-    if (level) physical |= 1u << (15 + n);
   }
   return physical;
 }
