@@ -65,7 +65,7 @@ void append_field(std::string& out, std::string_view name, std::string_view valu
 }  // namespace
 
 HttpSession::HttpSession(HttpServer& server, tcp::socket socket, std::uint64_t id, std::string peer)
-    : server_(server), stream_(std::move(socket)), id_(id), peer_(std::move(peer)), timer_(stream_.get_executor()) {}
+    : server_(server), stream_(std::move(socket)), id_(id), peer_(std::move(peer)) {}
 
 void HttpSession::start() {
   if (server_.observer_.opened) server_.observer_.opened(id_, peer_);
@@ -76,12 +76,6 @@ void HttpSession::close() {
   if (closed_) return;
   closed_ = true;
   const auto self = shared_from_this();  // forget() may drop the last other reference
-  disarm();
-  if (waiting_) {
-    waiting_ = false;
-    ++wait_serial_;
-    timer_.cancel();  // its handler holds the session
-  }
   if (!handed_over_) {
     error_code ec;
     stream_.socket().shutdown(tcp::socket::shutdown_both, ec);
@@ -100,7 +94,7 @@ void HttpSession::do_read_header() {
   version_ = 11;
   head_ = false;
   polling_ = false;
-  arm(server_.options_.idle_timeout);
+  stream_.expires_after(server_.options_.idle_timeout);
   http::async_read_header(stream_, buffer_, *parser_,
                           [self = shared_from_this()](const error_code& ec, std::size_t) { self->on_header(ec); });
 }
@@ -120,7 +114,7 @@ void HttpSession::on_header(const error_code& ec) {
   if (beast::iequals(parser_->get()[http::field::expect], "100-continue")) {
     auto cont = std::make_shared<http::response<http::empty_body>>(http::status::continue_, version_);
     in_flight_ = cont;
-    arm(server_.options_.write_timeout);
+    stream_.expires_after(server_.options_.write_timeout);
     http::async_write(stream_, *cont, [self = shared_from_this()](const error_code& wec, std::size_t) {
       if (self->closed_) return;
       self->in_flight_.reset();
@@ -133,7 +127,7 @@ void HttpSession::on_header(const error_code& ec) {
 }
 
 void HttpSession::do_read_body() {
-  arm(server_.options_.body_timeout);
+  stream_.expires_after(server_.options_.body_timeout);
   http::async_read(stream_, buffer_, *parser_,
                    [self = shared_from_this()](const error_code& ec, std::size_t) { self->on_body(ec); });
 }
@@ -147,7 +141,7 @@ void HttpSession::on_body(const error_code& ec) {
 void HttpSession::on_read_error(const error_code& ec) {
   if (ec == http::error::header_limit) return fail(431, "request header fields too large");
   if (ec == http::error::body_limit) return fail(413, "request body too large");
-  // A deadline that passed has closed the socket already (on_deadline); nothing can be sent.
+  // A deadline that passed has closed the socket already (beast::tcp_stream); nothing can be sent.
   if (is_disconnect(ec)) return close();
   fail(400, "malformed request: " + ec.message());
 }
@@ -184,8 +178,9 @@ void HttpSession::on_request() {
     if (!*answered) respond(api::error_page(500, "internal error"));
   }
   // A handler that answers later (a Store waits for the disk) has no deadline meanwhile. One that
-  // answered already has armed the write's.
-  if (!*answered && !closed_) disarm();
+  // answered already has armed the write's: no timer is cancelled and re-armed in between (each
+  // change of a pending deadline costs a handler run through the loop, per request).
+  if (!*answered && !closed_) stream_.expires_never();
 }
 
 void HttpSession::on_websocket_request(const api::Request& request) {
@@ -230,7 +225,7 @@ void HttpSession::send(api::Response out, bool keep_alive) {
   out_body_.clear();
   if (body && !head_) out_body_.swap(out.body);  // HEAD: no body
   if (server_.observer_.answered) server_.observer_.answered({id_, peer_, method_, target_, out.status, polling_});
-  arm(server_.options_.write_timeout);
+  stream_.expires_after(server_.options_.write_timeout);
   const std::array<asio::const_buffer, 2> buffers{asio::buffer(out_head_), asio::buffer(out_body_)};
   asio::async_write(stream_, buffers, [self = shared_from_this(), keep_alive](const error_code& ec, std::size_t) {
     if (self->closed_) return;
@@ -252,32 +247,8 @@ void HttpSession::linger() {
   error_code ec;
   stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
   if (ec) return close();
-  arm(server_.options_.linger);
+  stream_.expires_after(server_.options_.linger);
   do_discard();
-}
-
-void HttpSession::arm(std::chrono::steady_clock::duration timeout) {
-  deadline_ = std::chrono::steady_clock::now() + timeout;
-  if (!waiting_ || timer_.expiry() > deadline_) wait_for(deadline_);
-}
-
-void HttpSession::wait_for(std::chrono::steady_clock::time_point t) {
-  const std::uint64_t serial = ++wait_serial_;
-  waiting_ = true;
-  timer_.expires_at(t);  // cancels a pending wait: its handler sees an old serial
-  timer_.async_wait([self = shared_from_this(), serial](const error_code&) {
-    if (serial != self->wait_serial_) return;
-    self->waiting_ = false;
-    self->on_deadline();
-  });
-}
-
-void HttpSession::on_deadline() {
-  if (closed_ || deadline_ == std::chrono::steady_clock::time_point::max()) return;
-  if (std::chrono::steady_clock::now() < deadline_) return wait_for(deadline_);  // moved later meanwhile
-  // As beast::tcp_stream on a timeout: close the socket; the pending operation then fails.
-  error_code ec;
-  stream_.socket().close(ec);
 }
 
 void HttpSession::do_discard() {

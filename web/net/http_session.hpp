@@ -4,12 +4,10 @@
 #pragma once
 
 #include <array>
-#include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/core/tcp_stream.hpp>
 #include <boost/beast/http/parser.hpp>
 #include <boost/beast/http/string_body.hpp>
-#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -41,16 +39,6 @@ class HttpSession final : public Connection, public std::enable_shared_from_this
   void fail(int status, const std::string& reason);
   void linger();
   void do_discard();
-  // The session's one deadline (idle, body, write or linger): a time point, and a timer that is
-  // re-armed only when the deadline moves before its expiry or when it fires early. A deadline
-  // that passes closes the socket; the pending read or write then ends with operation_aborted.
-  // (beast::tcp_stream's own timeouts cancel and re-arm a read and a write timer for every request:
-  // a handler run per cancel and a timerfd_settime whenever the earliest deadline of the loop
-  // changes — issue 26, the API at the socket's speed.)
-  void arm(std::chrono::steady_clock::duration timeout);
-  void disarm() { deadline_ = std::chrono::steady_clock::time_point::max(); }
-  void wait_for(std::chrono::steady_clock::time_point t);
-  void on_deadline();
 
   HttpServer& server_;
   boost::beast::tcp_stream stream_;
@@ -71,10 +59,6 @@ class HttpSession final : public Connection, public std::enable_shared_from_this
   std::array<char, 4096> discard_{};
   bool closed_ = false;
   bool handed_over_ = false;  // the socket now belongs to a WsSession
-  boost::asio::steady_timer timer_;
-  std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
-  std::uint64_t wait_serial_ = 0;  // the timer's current wait; a cancelled one's handler sees another
-  bool waiting_ = false;           // a wait is pending
 };
 
 }  // namespace mcemu::web::net
