@@ -413,6 +413,7 @@ void FaultInjections::on_step() {
     }
   }
   last_time_ms_ = now;
+  if (active_.empty()) return;  // the usual case, in every step of every drive
   std::vector<std::pair<std::string, const char*>> due;
   for (const auto& i : active_) {
     if (i.used_up) {

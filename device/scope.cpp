@@ -48,16 +48,17 @@ void Scope::add_run(std::uint64_t time_ms, std::uint64_t count, const ScopeSampl
     first_ms_ = time_ms;
     if (time_ms < next_new_ms_) next_new_ms_ = time_ms;
   }
+  const auto n = static_cast<std::uint32_t>(count);  // ≤ k_capacity (above)
   if (!ring_.empty() && ring_.back().sample == s) {
-    ring_.back().count += count;
+    ring_.back().count += n;
   } else {
-    ring_.push_back(Run{s, count});
+    ring_.push_back(Run{s, n});
   }
   total_ += static_cast<std::size_t>(count);
   while (total_ > k_capacity) {
     Run& front = ring_.front();
     const std::size_t drop = std::min<std::size_t>(front.count, total_ - k_capacity);
-    front.count -= drop;
+    front.count -= static_cast<std::uint32_t>(drop);
     total_ -= drop;
     first_ms_ += drop * k_sample_ms;
     if (front.count == 0) ring_.pop_front();

@@ -63,10 +63,12 @@ class Scope {
   std::size_t size() const { return total_; }
 
  private:
+  // 24 bytes: a moving drive adds one run per sample (each differs), 12 000 of them in 60 s.
   struct Run {
     ScopeSample sample;
-    std::uint64_t count = 0;
+    std::uint32_t count = 0;  // ≤ 2 · k_capacity before the ring is trimmed
   };
+  static_assert(2 * k_capacity <= UINT32_MAX);
   ScopeBlock block_from(std::size_t first) const;
   std::uint64_t time_of(std::size_t i) const { return first_ms_ + i * k_sample_ms; }
 

@@ -33,6 +33,7 @@
 #include "drive/modes/profile_position.hpp"
 #include "drive/modes/profile_velocity.hpp"
 #include "drive/od/dictionary.hpp"
+#include "drive/od/settings_cache.hpp"
 #include "drive/plant.hpp"
 #include "drive/plant_config.hpp"
 #include "drive/step_count.hpp"
@@ -266,15 +267,12 @@ class DriveCore {
   std::uint64_t settle_count_ = 0;  // full steps; a cached prediction belongs to one of them
   mutable std::optional<std::pair<std::uint64_t, std::uint64_t>> quiet_cache_;  // (settle_count_, quiet until)
   // The inputs the input functions 3511h…351Ah require high and low for Software Enable, as bits of
-  // CoreContext::inputs, from the settings generation they were read at (issue 26: ten scattered
-  // reads every step of a fleet's drives).
+  // CoreContext::inputs (issue 26: ten scattered reads every step of a fleet's drives).
   struct EnableMasks {
-    std::uint64_t settings_generation = 0;
     std::uint32_t high = 0;
     std::uint32_t low = 0;
-    bool valid = false;
   };
-  mutable EnableMasks enable_masks_;
+  mutable od::SettingsCache<EnableMasks> enable_masks_;
 
   InputsObserver observer_;
   std::vector<std::pair<std::uint16_t, std::uint8_t>> write_hooks_;

@@ -234,20 +234,19 @@ void DriveCore::timed_transitions() {
 // A 9 in the high byte requires the input high, else a 9 in the low byte requires it low
 // (iofunc.md §4.11); all such inputs must agree.
 bool DriveCore::sw_enable_ok() const {
-  auto& m = enable_masks_;
-  const std::uint64_t generation = ctx_.od.settings_generation();
-  if (!m.valid || m.settings_generation != generation) {
-    m = EnableMasks{generation, 0, 0, true};
+  const EnableMasks& m = enable_masks_.get(ctx_.od, [this] {
+    EnableMasks masks;
     for (int i = 0; i < 10; ++i) {
       const std::int64_t f = ctx_.num(ctx_.h.input_function[static_cast<std::size_t>(i)]);
       const std::uint32_t bit = 1u << (16 + i);  // input i + 1 (CoreContext::input_level)
       if (((f >> 8) & 0xFF) == 9) {
-        m.high |= bit;
+        masks.high |= bit;
       } else if ((f & 0xFF) == 9) {
-        m.low |= bit;
+        masks.low |= bit;
       }
     }
-  }
+    return masks;
+  });
   return (ctx_.inputs & m.high) == m.high && (ctx_.inputs & m.low) == 0;
 }
 

@@ -249,15 +249,14 @@ std::uint32_t IoFunctions::compose() const {
 }
 
 const IoFunctions::OutputMasks& IoFunctions::output_masks() const {
-  auto& m = output_masks_;
-  const std::uint64_t generation = od_.settings_generation();
-  if (m.valid && m.settings_generation == generation) return m;
-  m = OutputMasks{generation, 0, 0, true};
-  for (std::size_t k = 0; k < h_.out.size(); ++k) {
-    m.all |= output_bit(k);
-    if (num(h_.out[k].function) != 0) m.owned |= output_bit(k);
-  }
-  return m;
+  return output_masks_.get(od_, [this] {
+    OutputMasks m;
+    for (std::size_t k = 0; k < h_.out.size(); ++k) {
+      m.all |= output_bit(k);
+      if (num(h_.out[k].function) != 0) m.owned |= output_bit(k);
+    }
+    return m;
+  });
 }
 
 void IoFunctions::write_outputs() {

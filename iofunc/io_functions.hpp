@@ -26,6 +26,7 @@
 #include "drive/drive_core.hpp"
 #include "drive/helpers/helpers.hpp"
 #include "drive/od/dictionary.hpp"
+#include "drive/od/settings_cache.hpp"
 #include "iofunc/io_handles.hpp"
 #include "iofunc/output_functions.hpp"
 
@@ -122,10 +123,8 @@ class IoFunctions {
   // Cached by the dictionary's settings generation (issue 26: four scattered reads, twice, in every
   // step of every drive).
   struct OutputMasks {
-    std::uint64_t settings_generation = 0;
     std::uint32_t owned = 0;
     std::uint32_t all = 0;
-    bool valid = false;
   };
   const OutputMasks& output_masks() const;
   const InputRecord& record(int n) const { return h_.in[static_cast<std::size_t>(n - 1)]; }
@@ -142,7 +141,7 @@ class IoFunctions {
   std::uint16_t executed_ = 0;  // inputs that ran a function 4/6 move since their .01 was written
   std::uint32_t latch_ = 0;     // manual output bits (60FEh.01 bits 16…19 of function-0 outputs)
   std::uint32_t levels_ = 0;    // computed levels of owned outputs (bits 16…19)
-  mutable OutputMasks output_masks_;
+  mutable od::SettingsCache<OutputMasks> output_masks_;
   std::vector<Diagnostic> diagnostics_;
 };
 

@@ -6,6 +6,8 @@
 
 #include <array>
 
+#include "drive/od/settings_cache.hpp"
+
 namespace mcemu::od {
 namespace {
 
@@ -299,6 +301,33 @@ TEST(Dictionary, SettingsGenerationCountsWritableEntriesOnly) {
   od.load_values(load);  // a bulk load of an ro entry still counts
   EXPECT_EQ(od.settings_generation(), s0 + 3);
   EXPECT_EQ(od.generation(), g0 + 4);
+}
+
+// SettingsCache computes once, keeps the value while no setting changes (the drive's own ro values
+// move every step), and computes again after a setting write and after a bulk load.
+TEST(Dictionary, SettingsCacheRecomputesOnlyAfterASettingChanged) {
+  ObjectDictionary od(test_entries());
+  SettingsCache<std::int64_t> cache;
+  int computed = 0;
+  const auto read = [&] {
+    return cache.get(od, [&] {
+      ++computed;
+      return od.number(od.handle(0x2000, 0));
+    });
+  };
+  EXPECT_EQ(read(), 0);
+  EXPECT_EQ(read(), 0);
+  EXPECT_EQ(computed, 1);
+  od.set(od.handle(0x2007, 0), std::int64_t{8});  // ro: not a setting
+  EXPECT_EQ(read(), 0);
+  EXPECT_EQ(computed, 1);
+  od.write(0x2000, 0, std::int64_t{5}, Origin::sdo);
+  EXPECT_EQ(read(), 5);
+  EXPECT_EQ(computed, 2);
+  const std::array<StoredValue, 1> load{StoredValue{0x2000, 0, std::int64_t{7}}};
+  od.load_values(load);
+  EXPECT_EQ(read(), 7);
+  EXPECT_EQ(computed, 3);
 }
 
 // set() takes a fast path for plain entries (a number without limits, validator or write hook):
