@@ -3,6 +3,8 @@
 // limit, and clients that are slow to send or never read.
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include "protocols/line/net/line_server.hpp"
 #include "tests/web/net/net_fixture.hpp"
 #include "web/api/router.hpp"
@@ -493,6 +495,24 @@ TEST_F(HttpServerTest, IdleKeepAliveConnectionIsClosed) {
   EXPECT_EQ(c.read_response()->status, 200);
   EXPECT_TRUE(c.wait_closed());
   EXPECT_TRUE(poll_until([&] { return server_->connections() == 0; }));
+  EXPECT_EQ(recorded().closed.size(), 1U);
+}
+
+// The idle timeout counts from the last request, not from the connection: requests every 100 ms
+// keep a connection with a 300 ms idle timeout open for 600 ms, and it is closed once they stop.
+TEST_F(HttpServerTest, EveryRequestMovesTheIdleDeadline) {
+  HttpOptions o;
+  o.idle_timeout = 300ms;
+  start(o);
+  RawClient c(port());
+  for (int i = 0; i < 6; ++i) {
+    ASSERT_TRUE(c.send(get_request("/echo")));
+    ASSERT_EQ(c.read_response()->status, 200) << i;
+    std::this_thread::sleep_for(100ms);
+  }
+  ASSERT_TRUE(c.send(get_request("/echo")));
+  EXPECT_EQ(c.read_response()->status, 200) << "open after 600 ms of requests";
+  EXPECT_TRUE(c.wait_closed());
   EXPECT_EQ(recorded().closed.size(), 1U);
 }
 
