@@ -254,6 +254,22 @@ TEST(OpenApi, QueryParametersOfTheDocumentAreAccepted) {
   }
 }
 
+// The channels the document names for GET /api/v1/trace are the trace's channels, all of them.
+TEST(OpenApi, TheTraceChannelsOfTheDocumentAreTheTracesOwn) {
+  ApiFixture f;
+  const json doc = f.json_of(f.call("GET", "/api/v1/openapi.json"));
+  std::string text;
+  for (const auto& p : doc["paths"]["/api/v1/trace"]["get"]["parameters"]) {
+    if (p["name"] == "channels") text = p["description"].get<std::string>();
+  }
+  ASSERT_FALSE(text.empty());
+  for (std::size_t i = 0; i < mcemu::trace::k_channel_count; ++i) {
+    const auto name = std::string(mcemu::trace::to_string(static_cast<mcemu::trace::Channel>(i)));
+    EXPECT_NE(text.find(" " + name + (i + 1 < mcemu::trace::k_channel_count ? "," : " ")), std::string::npos) << name;
+    EXPECT_EQ(f.call("GET", "/api/v1/trace?channels=" + name).status, 200) << name;
+  }
+}
+
 // ---- §8.1 info, §8.10 clock -----------------------------------------------------------------
 
 TEST(Router, InfoWithScriptingAndClock) {

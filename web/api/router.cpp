@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "protocols/refgo/interpreter.hpp"
+#include "trace/trace.hpp"
 #include "web/api/http_util.hpp"
 #include "web/api/static_files.hpp"
 
@@ -76,10 +77,22 @@ Response redirect_to(std::string_view location) {
   return r;
 }
 
+// "comma-separated channels: refgo, slcan, … (default all)", from the trace's own names.
+const std::string& channels_description() {
+  static const std::string text = [] {
+    std::string s = "comma-separated channels: ";
+    for (std::size_t i = 0; i < trace::k_channel_count; ++i) {
+      if (i > 0) s += ", ";
+      s += trace::to_string(static_cast<trace::Channel>(i));
+    }
+    return s + " (default all)";
+  }();
+  return text;
+}
+
 const std::vector<QueryParam> k_trace_query{
     {"since", "integer", "first sequence number wanted (default 0)"},
-    {"channels", "string",
-     "comma-separated channels: refgo, slcan, udp, http, script, drive, api, faulhaber, basic, lint (default all)"},
+    {"channels", "string", channels_description()},
     {"limit", "integer", "at most this many events, 1 … 10000 (default 500)"},
 
     {"excludePolling", "integer", "1: leave out the requests the pages repeat on a timer (header X-Mcemu-Poll)"}};
