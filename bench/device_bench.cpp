@@ -172,6 +172,41 @@ void BM_BasicSpin_GetobjLine(benchmark::State& state) {
   spin(state, text.c_str());
 }
 
+// The heap a moving MovingCap holds once its histories are full (issue 26: a moving fleet's memory
+// over time): the 60 s scope ring and the 10 000-event trace ring, after an hour of Back & Forth in
+// drive time. Counters in KiB from malloc's own counts (mallinfo2: arena and mmapped blocks): the
+// drive as built, and what the hour added.
+void BM_MovingHourHeap_MC349(benchmark::State& state) {
+  const auto heap = [] {
+    const auto m = mallinfo2();
+    return static_cast<double>(m.uordblks + m.hblkhd) / 1024.0;
+  };
+  for (auto _ : state) {
+    const double h0 = heap();
+    DeviceFixture d("MC349", quiet());
+    start_back_and_forth(d);
+    const double h1 = heap();
+    d.step(3'600'000);
+    state.counters["built_KiB"] = h1 - h0;
+    state.counters["hour_KiB"] = heap() - h1;
+    state.counters["trace_events"] = static_cast<double>(d.device().trace().size());
+  }
+}
+
+// One event into a full trace ring with a listener (the server's WebSocket hand-off), a drive
+// event's text: the cost a moving drive pays per event.
+void BM_TraceRecord(benchmark::State& state) {
+  using mcemu::trace::Channel;
+  using mcemu::trace::Dir;
+  mcemu::trace::Ring ring{{[] { return std::uint64_t{1}; }, [] { return std::int64_t{0}; }}};
+  std::size_t seen = 0;
+  ring.set_listener([&seen](const mcemu::trace::Event& e) { seen += e.text.size(); });
+  const std::string_view text = "StatuswordChanged 1127h -> 0127h";
+  for (std::size_t i = 0; i < ring.capacity(); ++i) ring.record(Channel::drive, Dir::event, text);
+  for (auto _ : state) ring.record(Channel::drive, Dir::event, text);
+  benchmark::DoNotOptimize(seen);
+}
+
 }  // namespace
 
 BENCHMARK(BM_BasicSpin_Assign)->Arg(20)->Arg(250);
@@ -183,3 +218,5 @@ BENCHMARK(BM_MovingStep_MC349);
 BENCHMARK(BM_MovingStep_FH_MC5005);
 BENCHMARK(BM_MovingFleet_MC349)->Arg(1)->Arg(100)->Arg(1000);
 BENCHMARK(BM_IdleMinute_MC349);
+BENCHMARK(BM_MovingHourHeap_MC349)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TraceRecord);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 
 namespace mcemu::trace {
 
@@ -43,32 +44,116 @@ std::optional<ChannelSet> parse_channels(std::string_view text) {
   return set;
 }
 
+// ---- ByteFifo
+
+void ByteFifo::write(std::uint64_t at, std::string_view bytes) {
+  const auto start = static_cast<std::size_t>(at % buf_.size());
+  const std::size_t first = std::min(bytes.size(), buf_.size() - start);
+  std::copy_n(bytes.data(), first, buf_.data() + start);
+  std::copy_n(bytes.data() + first, bytes.size() - first, buf_.data());
+}
+
+void ByteFifo::copy(std::uint64_t at, std::size_t n, std::string& out) const {
+  out.clear();
+  if (n == 0) return;
+  const auto start = static_cast<std::size_t>(at % buf_.size());
+  const std::size_t first = std::min(n, buf_.size() - start);
+  out.append(buf_.data() + start, first);
+  out.append(buf_.data(), n - first);
+}
+
+void ByteFifo::reallocate(std::size_t capacity) {
+  ByteFifo next;
+  next.buf_.resize(capacity);
+  next.head_ = next.tail_ = head_;
+  std::string live;
+  copy(head_, size(), live);
+  next.write(head_, live);
+  next.tail_ = tail_;
+  *this = std::move(next);
+}
+
+std::uint64_t ByteFifo::push(std::string_view a, std::string_view b) {
+  const std::size_t need = size() + a.size() + b.size();
+  if (need > buf_.size()) {
+    std::size_t capacity = std::max(k_min_capacity, buf_.size());
+    while (capacity < need) capacity += capacity / 2;
+    reallocate(capacity);
+  }
+  const std::uint64_t at = tail_;
+  write(tail_, a);
+  tail_ += a.size();
+  write(tail_, b);
+  tail_ += b.size();
+  return at;
+}
+
+void ByteFifo::pop(std::size_t n) {
+  head_ += std::min<std::uint64_t>(n, tail_ - head_);
+  // a quarter in use: down to twice what is held
+  if (buf_.size() > k_min_capacity && size() <= buf_.size() / 4) reallocate(std::max(k_min_capacity, 2 * size()));
+}
+
+// ---- Ring
+
 Ring::Ring(Clocks clocks, std::size_t capacity)
     : clocks_(std::move(clocks)), capacity_(std::max<std::size_t>(capacity, 1)) {}
 
+namespace {
+
+constexpr std::uint8_t k_polling_bit = 16;
+
+std::uint8_t pack(const Flags& f) {
+  return static_cast<std::uint8_t>((f.overlong ? 1U : 0U) | (f.to_script ? 2U : 0U) | (f.discarded ? 4U : 0U) |
+                                   (f.ignored ? 8U : 0U) | (f.polling ? k_polling_bit : 0U));
+}
+
+Flags unpack(std::uint8_t bits) {
+  return Flags{(bits & 1U) != 0, (bits & 2U) != 0, (bits & 4U) != 0, (bits & 8U) != 0, (bits & 16U) != 0};
+}
+
+}  // namespace
+
+void Ring::fill(Event& e, const Slot& s, std::uint64_t seq) const {
+  e.seq = seq;
+  e.time_ms = s.time_ms;
+  e.wall_ms = s.wall_ms;
+  e.channel = s.channel;
+  e.dir = s.dir;
+  e.conn = s.conn;
+  bytes_.copy(s.at, s.peer_size, e.peer);
+  bytes_.copy(s.at + s.peer_size, s.text_size, e.text);
+  e.flags = unpack(s.flags);
+}
+
 std::uint64_t Ring::record(Channel channel, Dir dir, std::string_view text, std::uint64_t conn, std::string_view peer,
                            Flags flags) {
-  Event* e = nullptr;
-  if (events_.size() < capacity_) {
+  Slot* s = nullptr;
+  if (slots_.size() < capacity_) {
     // grow by doubling, but never past capacity_ (the vector's own doubling would overshoot it)
-    if (events_.size() == events_.capacity())
-      events_.reserve(std::min(capacity_, std::max<std::size_t>(16, 2 * events_.size())));
-    e = &events_.emplace_back();
+    if (slots_.size() == slots_.capacity())
+      slots_.reserve(std::min(capacity_, std::max<std::size_t>(16, 2 * slots_.size())));
+    s = &slots_.emplace_back();
   } else {
-    e = &events_[head_];
-    head_ = (head_ + 1) % events_.size();
+    s = &slots_[head_];
+    head_ = (head_ + 1) % slots_.size();
+    bytes_.pop(std::size_t{s->peer_size} + s->text_size);  // the oldest event's bytes are the oldest bytes
   }
-  e->seq = next_seq_++;
-  e->time_ms = clocks_.drive_ms ? clocks_.drive_ms() : 0;
-  e->wall_ms = clocks_.wall_ms ? clocks_.wall_ms() : -1;
-  e->channel = channel;
-  e->dir = dir;
-  e->conn = conn;
-  e->peer.assign(peer);
-  e->text.assign(text);
-  e->flags = flags;
-  const std::uint64_t seq = e->seq;
-  if (listener_) listener_(*e);
+  peer = peer.substr(0, std::numeric_limits<std::uint16_t>::max());
+  s->time_ms = clocks_.drive_ms ? clocks_.drive_ms() : 0;
+  s->wall_ms = clocks_.wall_ms ? clocks_.wall_ms() : -1;
+  s->conn = conn;
+  s->at = bytes_.push(peer, text);
+  s->text_size = static_cast<std::uint32_t>(text.size());
+  s->peer_size = static_cast<std::uint16_t>(peer.size());
+  s->channel = channel;
+  s->dir = dir;
+  s->flags = pack(flags);
+  const std::uint64_t seq = next_seq_++;
+  if (listener_) {
+    fill(scratch_, *s, seq);
+    listener_(scratch_);
+  }
   return seq;
 }
 
@@ -76,22 +161,22 @@ Ring::Result Ring::query(const Query& q) const {
   Result r;
   const std::uint64_t since = std::max<std::uint64_t>(q.since, 1);
   r.next_seq = std::max(since, next_seq_);
-  if (events_.empty()) {
+  if (slots_.empty()) {
     r.dropped = since < next_seq_ ? next_seq_ - since : 0;
     return r;
   }
-  const std::uint64_t oldest = at(0).seq;
+  const std::uint64_t oldest = next_seq_ - slots_.size();
   if (since < oldest) r.dropped = oldest - since;
   // seq is contiguous inside the ring, so the first wanted event is found by arithmetic.
   std::size_t i = since > oldest ? static_cast<std::size_t>(since - oldest) : 0;
-  for (; i < events_.size(); ++i) {
-    const Event& e = at(i);
-    if (!q.channels.contains(e.channel) || (q.exclude_polling && e.flags.polling)) continue;
+  for (; i < slots_.size(); ++i) {
+    const Slot& s = at(i);
+    if (!q.channels.contains(s.channel) || (q.exclude_polling && (s.flags & k_polling_bit) != 0)) continue;
     if (r.events.size() == q.limit) {
-      r.next_seq = e.seq;  // the first event not returned
+      r.next_seq = oldest + i;  // the first event not returned
       return r;
     }
-    r.events.push_back(e);
+    fill(r.events.emplace_back(), s, oldest + i);
   }
   r.next_seq = std::max(since, next_seq_);
   return r;

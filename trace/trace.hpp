@@ -62,6 +62,34 @@ struct Event {
   Flags flags;
 };
 
+// The bytes of the ring's events (peer, then text), oldest first: a circular buffer whose size
+// follows what the ring holds (issue 26: a moving drive records 5–20 events a second, and 10 000 of
+// them with a string pair each took ~1.6 MB per drive). Positions are logical (they only grow). The
+// buffer grows by half until it holds its bytes and, once only a quarter of it is in use, shrinks
+// to twice what it holds: a burst of long texts does not keep its memory once it has left the ring.
+class ByteFifo {
+ public:
+  static constexpr std::size_t k_min_capacity = 256;
+
+  // Appends a then b; returns the position of a's first byte.
+  std::uint64_t push(std::string_view a, std::string_view b);
+  // Drops the n oldest bytes (n ≤ size()).
+  void pop(std::size_t n);
+  // The n bytes from position at (still held) into out (its capacity reused).
+  void copy(std::uint64_t at, std::size_t n, std::string& out) const;
+
+  std::size_t size() const { return static_cast<std::size_t>(tail_ - head_); }
+  std::size_t capacity() const { return buf_.size(); }
+
+ private:
+  void write(std::uint64_t at, std::string_view bytes);
+  void reallocate(std::size_t capacity);
+
+  std::vector<char> buf_;   // logical position p is buf_[p % size]; empty until the first byte
+  std::uint64_t head_ = 0;  // the oldest byte held
+  std::uint64_t tail_ = 0;  // one past the newest
+};
+
 class Ring {
  public:
   static constexpr std::size_t k_default_capacity = 10000;
@@ -73,10 +101,10 @@ class Ring {
 
   explicit Ring(Clocks clocks, std::size_t capacity = k_default_capacity);
 
-  // Appends one event (seq, time and wall filled in here) and returns its seq.
-  // The ring's storage is reused once it is full: the oldest slot is overwritten in place, so a
-  // steady stream of events allocates nothing (no deque blocks, and `peer` is copied into the
-  // slot's own string, and so is `text`: no string is built or handed over per event).
+  // Appends one event (seq, time and wall filled in here) and returns its seq. Once the ring is
+  // full the oldest slot is reused in place and its bytes leave the byte buffer first, so a steady
+  // stream of events allocates nothing. A peer longer than 65 535 bytes is cut there (peers are
+  // "address:port").
   std::uint64_t record(Channel channel, Dir dir, std::string_view text, std::uint64_t conn = 0,
                        std::string_view peer = {}, Flags flags = {});
 
@@ -97,17 +125,38 @@ class Ring {
   void set_listener(std::function<void(const Event&)> listener) { listener_ = std::move(listener); }
 
   std::uint64_t next_seq() const { return next_seq_; }
-  std::size_t size() const { return events_.size(); }
+  std::size_t size() const { return slots_.size(); }
   std::size_t capacity() const { return capacity_; }
+  // Bytes the ring holds for its events' peers and texts, and the buffer that holds them (tests,
+  // benchmarks).
+  std::size_t text_bytes() const { return bytes_.size(); }
+  std::size_t text_capacity() const { return bytes_.capacity(); }
 
  private:
+  // One event without its seq (the oldest slot's is next_seq_ - size(), the rest follow) and with
+  // its peer and text in bytes_: 40 bytes.
+  struct Slot {
+    std::uint64_t time_ms = 0;
+    std::int64_t wall_ms = -1;
+    std::uint64_t conn = 0;
+    std::uint64_t at = 0;  // position of the peer's first byte in bytes_, the text after it
+    std::uint32_t text_size = 0;
+    std::uint16_t peer_size = 0;
+    Channel channel = Channel::drive;
+    Dir dir = Dir::event;
+    std::uint8_t flags = 0;  // Flags, one bit each
+  };
+  const Slot& at(std::size_t i) const { return slots_[(head_ + i) % slots_.size()]; }
+  void fill(Event& e, const Slot& s, std::uint64_t seq) const;
+
   Clocks clocks_;
   std::size_t capacity_;
-  // Grows to capacity_, then circular: events_[head_] is the oldest event.
-  const Event& at(std::size_t i) const { return events_[(head_ + i) % events_.size()]; }
-  std::vector<Event> events_;
+  // Grows to capacity_, then circular: slots_[head_] is the oldest event.
+  std::vector<Slot> slots_;
   std::size_t head_ = 0;
   std::uint64_t next_seq_ = 1;
+  ByteFifo bytes_;
+  Event scratch_;  // what the listener is shown (its strings' capacity reused)
   std::function<void(const Event&)> listener_;
 };
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <deque>
 #include <string>
 #include <utility>
 #include <vector>
@@ -109,6 +110,77 @@ TEST(TraceRing, ListenerSeesEveryEvent) {
   f.ring.record(Channel::http, Dir::rx, "GET / HTTP/1.1");
   f.ring.record(Channel::http, Dir::tx, "200");
   EXPECT_EQ(seen, (std::vector<std::uint64_t>{1, 2}));
+}
+
+// The ring against a plain model (a deque of whole events) over many records of every size around
+// the byte buffer's growth and wrap-around: same events, seqs, fields and dropped counts.
+TEST(TraceRing, MatchesAPlainModelThroughWrapAroundsAndGrowth) {
+  std::uint64_t now = 0;
+  Ring ring{Ring::Clocks{[&] { return now; }, [&] { return static_cast<std::int64_t>(now) * 3; }}, 7};
+  std::deque<Event> model;
+  std::uint64_t seq = 0;
+  std::uint32_t x = 12345;
+  const auto next = [&] {
+    x = x * 1103515245U + 12345U;
+    return (x >> 8) & 0xFFFF;
+  };
+  for (int i = 0; i < 3000; ++i) {
+    now = static_cast<std::uint64_t>(i) * 5;
+    // mostly short texts, sometimes long ones (the buffer grows), then short again (it shrinks)
+    const std::size_t len = (i / 500) % 2 == 1 && next() % 4 == 0 ? 300 + next() % 2000 : next() % 40;
+    const std::string text(len, static_cast<char>('a' + i % 26));
+    const std::string peer = next() % 3 == 0 ? "" : "10.0.0." + std::to_string(i % 250) + ":" + std::to_string(i);
+    const Flags flags{.overlong = i % 5 == 0, .ignored = i % 7 == 0, .polling = i % 3 == 0};
+    const auto channel = static_cast<Channel>(i % k_channel_count);
+    EXPECT_EQ(ring.record(channel, Dir::tx, text, static_cast<std::uint64_t>(i), peer, flags), ++seq);
+    model.push_back(Event{seq, now, static_cast<std::int64_t>(now) * 3, channel, Dir::tx, static_cast<std::uint64_t>(i),
+                          peer, text, flags});
+    if (model.size() > 7) model.pop_front();
+    const std::uint64_t from = seq > 9 ? seq - 9 : 0;
+    const auto r = ring.query(since(from));
+    ASSERT_EQ(r.events.size(), model.size()) << i;
+    for (std::size_t k = 0; k < model.size(); ++k) {
+      const Event& a = r.events[k];
+      const Event& b = model[k];
+      ASSERT_EQ(a.seq, b.seq) << i;
+      ASSERT_EQ(a.time_ms, b.time_ms);
+      ASSERT_EQ(a.wall_ms, b.wall_ms);
+      ASSERT_EQ(a.channel, b.channel);
+      ASSERT_EQ(a.conn, b.conn);
+      ASSERT_EQ(a.peer, b.peer) << i;
+      ASSERT_EQ(a.text, b.text) << i;
+      ASSERT_EQ(a.flags.overlong, b.flags.overlong);
+      ASSERT_EQ(a.flags.ignored, b.flags.ignored);
+      ASSERT_EQ(a.flags.polling, b.flags.polling);
+    }
+    const std::uint64_t oldest = model.front().seq;
+    const std::uint64_t wanted = std::max<std::uint64_t>(from, 1);
+    ASSERT_EQ(r.dropped, wanted < oldest ? oldest - wanted : 0) << i;
+  }
+}
+
+// What the ring's texts cost follows what it holds: a burst of long texts grows the byte buffer,
+// and once they have left the ring it shrinks again (within 4× of the bytes held).
+TEST(TraceRing, TextMemoryFollowsWhatTheRingHolds) {
+  Ring ring{Ring::Clocks{}, 100};
+  for (int i = 0; i < 100; ++i) ring.record(Channel::http, Dir::rx, std::string(8000, 'x'));
+  EXPECT_EQ(ring.text_bytes(), 800000U);
+  EXPECT_GE(ring.text_capacity(), 800000U);
+  for (int i = 0; i < 100; ++i) ring.record(Channel::drive, Dir::event, "TargetReached mode 1");
+  EXPECT_EQ(ring.text_bytes(), 2000U);
+  EXPECT_LE(ring.text_capacity(), 4 * 2000U + ByteFifo::k_min_capacity);
+  EXPECT_EQ(ring.query({}).events.back().text, "TargetReached mode 1");
+}
+
+// A full ring of a moving drive's events (~30 characters, no peer): about 70 bytes an event.
+TEST(TraceRing, AFullRingOfDriveEventsIsCompact) {
+  Ring ring{Ring::Clocks{}};
+  for (std::size_t i = 0; i < 3 * Ring::k_default_capacity; ++i) {
+    ring.record(Channel::drive, Dir::event, "StatuswordChanged 1127h -> 0127h");
+  }
+  EXPECT_EQ(ring.size(), Ring::k_default_capacity);
+  EXPECT_EQ(ring.text_bytes(), 32 * Ring::k_default_capacity);
+  EXPECT_LE(ring.text_capacity(), 2 * ring.text_bytes());
 }
 
 TEST(TraceChannels, Parse) {
