@@ -20,7 +20,7 @@ HttpServer::HttpServer(asio::io_context& io, const tcp::endpoint& endpoint, Http
       hub_(io, options.ws),
       ids_(base::own_ids_unless(options_.ids)) {
   acceptor_.open(endpoint.protocol());
-  acceptor_.set_option(tcp::acceptor::reuse_address(true));
+  acceptor_.set_option(asio::socket_base::reuse_address(true));
   acceptor_.bind(endpoint);
   acceptor_.listen();
 }
@@ -46,7 +46,7 @@ void HttpServer::stop() {
 
 void HttpServer::do_accept() {
   if (!accepting_) return;
-  acceptor_.async_accept([this, alive = alive_.watch()](const error_code& ec, tcp::socket socket) {
+  acceptor_.async_accept([this, alive = alive_.watch()](const error_code& ec, Socket socket) {
     if (!alive || !accepting_ || ec == asio::error::operation_aborted) return;
     if (ec) {
       // Out of descriptors and the like: retry a little later instead of spinning.
@@ -65,7 +65,7 @@ void HttpServer::do_accept() {
                    options_.max_clients, peer);
       socket.close(pe);
     } else {
-      line::net::apply_stream_socket_options(socket);
+      line::net::apply_stream_socket_options(socket.native_handle());
       auto s = std::make_shared<HttpSession>(*this, std::move(socket), ids_->next(), peer);
       adopt(s);
       s->start();

@@ -31,6 +31,7 @@
 #include "base/connection_ids.hpp"
 #include "base/liveness.hpp"
 #include "web/api/http_types.hpp"
+#include "web/net/stream.hpp"
 #include "web/net/ws_hub.hpp"
 
 namespace mcemu::web::net {
@@ -104,7 +105,7 @@ class HttpServer {
   void adopt(const std::shared_ptr<Connection>& c) { connections_[c.get()] = c; }
   void forget(Connection* c) { connections_.erase(c); }
 
-  boost::asio::ip::tcp::acceptor acceptor_;
+  Acceptor acceptor_;
   HttpOptions options_;
   Handler handler_;
   HttpObserver observer_;

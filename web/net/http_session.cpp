@@ -64,7 +64,7 @@ void append_field(std::string& out, std::string_view name, std::string_view valu
 
 }  // namespace
 
-HttpSession::HttpSession(HttpServer& server, tcp::socket socket, std::uint64_t id, std::string peer)
+HttpSession::HttpSession(HttpServer& server, Socket socket, std::uint64_t id, std::string peer)
     : server_(server), stream_(std::move(socket)), id_(id), peer_(std::move(peer)) {}
 
 void HttpSession::start() {
@@ -141,7 +141,7 @@ void HttpSession::on_body(const error_code& ec) {
 void HttpSession::on_read_error(const error_code& ec) {
   if (ec == http::error::header_limit) return fail(431, "request header fields too large");
   if (ec == http::error::body_limit) return fail(413, "request body too large");
-  // A deadline that passed has closed the socket already (beast::tcp_stream); nothing can be sent.
+  // A deadline that passed has closed the socket already (beast::basic_stream); nothing can be sent.
   if (is_disconnect(ec)) return close();
   fail(400, "malformed request: " + ec.message());
 }

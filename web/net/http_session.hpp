@@ -5,7 +5,6 @@
 
 #include <array>
 #include <boost/beast/core/flat_buffer.hpp>
-#include <boost/beast/core/tcp_stream.hpp>
 #include <boost/beast/http/parser.hpp>
 #include <boost/beast/http/string_body.hpp>
 #include <memory>
@@ -14,6 +13,7 @@
 
 #include "web/api/http_types.hpp"
 #include "web/net/connection.hpp"
+#include "web/net/stream.hpp"
 
 namespace mcemu::web::net {
 
@@ -21,7 +21,7 @@ class HttpServer;
 
 class HttpSession final : public Connection, public std::enable_shared_from_this<HttpSession> {
  public:
-  HttpSession(HttpServer& server, boost::asio::ip::tcp::socket socket, std::uint64_t id, std::string peer);
+  HttpSession(HttpServer& server, Socket socket, std::uint64_t id, std::string peer);
   void start();
   void close() override;
 
@@ -41,7 +41,7 @@ class HttpSession final : public Connection, public std::enable_shared_from_this
   void do_discard();
 
   HttpServer& server_;
-  boost::beast::tcp_stream stream_;
+  Stream stream_;
   boost::beast::flat_buffer buffer_;
   std::optional<Parser> parser_;
   std::uint64_t id_;

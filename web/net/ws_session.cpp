@@ -15,7 +15,7 @@ namespace http = beast::http;
 namespace websocket = beast::websocket;
 using error_code = boost::system::error_code;
 
-WsSession::WsSession(HttpServer& server, beast::tcp_stream stream, std::uint64_t id, std::string peer)
+WsSession::WsSession(HttpServer& server, Stream stream, std::uint64_t id, std::string peer)
     : server_(server),
       ws_(std::move(stream)),
       outbox_(server.options_.ws.queue_limit),
@@ -32,7 +32,7 @@ void WsSession::start(http::request<http::string_body> request, std::string meth
   method_ = std::move(method);
   target_ = std::move(target);
   const auto& o = server_.options_.ws;
-  // The WebSocket has its own deadlines; the HTTP ones must not close it (Beast's rule for tcp_stream).
+  // The WebSocket has its own deadlines; the HTTP ones must not close it (Beast's rule for basic_stream).
   beast::get_lowest_layer(ws_).expires_never();
   websocket::stream_base::timeout t{};
   t.handshake_timeout = o.close_timeout;

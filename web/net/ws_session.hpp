@@ -9,7 +9,6 @@
 
 #include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
-#include <boost/beast/core/tcp_stream.hpp>
 #include <boost/beast/http/message.hpp>
 #include <boost/beast/http/string_body.hpp>
 #include <boost/beast/websocket/stream.hpp>
@@ -20,6 +19,7 @@
 #include "web/api/ws_outbox.hpp"
 #include "web/api/ws_protocol.hpp"
 #include "web/net/connection.hpp"
+#include "web/net/stream.hpp"
 #include "web/net/ws_hub.hpp"
 
 namespace mcemu::web::net {
@@ -28,7 +28,7 @@ class HttpServer;
 
 class WsSession final : public Connection, public WsClient, public std::enable_shared_from_this<WsSession> {
  public:
-  WsSession(HttpServer& server, boost::beast::tcp_stream stream, std::uint64_t id, std::string peer);
+  WsSession(HttpServer& server, Stream stream, std::uint64_t id, std::string peer);
   ~WsSession() override;
   void start(boost::beast::http::request<boost::beast::http::string_body> request, std::string method,
              std::string target);
@@ -50,7 +50,7 @@ class WsSession final : public Connection, public WsClient, public std::enable_s
   void begin_close(boost::beast::websocket::close_code code, const char* reason);
 
   HttpServer& server_;
-  boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
+  boost::beast::websocket::stream<Stream> ws_;
   boost::beast::flat_buffer read_buffer_;
   api::WsOutbox outbox_;
   api::Subscription subscription_;

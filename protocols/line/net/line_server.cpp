@@ -9,11 +9,12 @@ namespace mcemu::line::net {
 namespace asio = boost::asio;
 using tcp = asio::ip::tcp;
 
-void apply_stream_socket_options(tcp::socket& socket) {
-  boost::system::error_code ec;
-  socket.set_option(tcp::no_delay(true), ec);
-  socket.set_option(asio::socket_base::keep_alive(true), ec);
-  const int fd = socket.native_handle();
+void apply_stream_socket_options(tcp::socket& socket) { apply_stream_socket_options(socket.native_handle()); }
+
+void apply_stream_socket_options(int fd) {
+  const int on = 1;
+  ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &on, sizeof on);
+  ::setsockopt(fd, SOL_SOCKET, SO_KEEPALIVE, &on, sizeof on);
   const int idle = 10;
   const int interval = 5;
   const int count = 3;

@@ -63,5 +63,7 @@ class LineServer {
 
 // Socket options of refgo.md §1.3 (also used by SLCAN); exposed for tests.
 void apply_stream_socket_options(boost::asio::ip::tcp::socket& socket);
+// The same on a socket's descriptor (sockets of another executor type: web/net/stream.hpp).
+void apply_stream_socket_options(int fd);
 
 }  // namespace mcemu::line::net
