@@ -150,9 +150,15 @@ std::uint64_t Ring::record(Channel channel, Dir dir, std::string_view text, std:
   s->dir = dir;
   s->flags = pack(flags);
   const std::uint64_t seq = next_seq_++;
-  if (listener_) {
+  if (listener_ && !in_listener_) {
     fill(scratch_, *s, seq);
+    in_listener_ = true;
     listener_(scratch_);
+    in_listener_ = false;
+  } else if (listener_) {  // recorded by the listener itself: scratch_ is still being shown
+    Event e;
+    fill(e, *s, seq);
+    listener_(e);
   }
   return seq;
 }

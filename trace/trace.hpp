@@ -156,7 +156,8 @@ class Ring {
   std::size_t head_ = 0;
   std::uint64_t next_seq_ = 1;
   ByteFifo bytes_;
-  Event scratch_;  // what the listener is shown (its strings' capacity reused)
+  Event scratch_;             // what the listener is shown (its strings' capacity reused)
+  bool in_listener_ = false;  // a listener that records gets a fresh Event for the inner one
   std::function<void(const Event&)> listener_;
 };
 

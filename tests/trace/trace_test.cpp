@@ -183,6 +183,19 @@ TEST(TraceRing, AFullRingOfDriveEventsIsCompact) {
   EXPECT_LE(ring.text_capacity(), 2 * ring.text_bytes());
 }
 
+// A listener that records into the ring itself still sees each event whole: the inner event does
+// not overwrite the one the outer call is looking at.
+TEST(TraceRing, AListenerThatRecordsSeesBothEventsWhole) {
+  Fixture f;
+  std::vector<std::string> seen;
+  f.ring.set_listener([&](const Event& e) {
+    if (e.text == "outer") f.ring.record(Channel::api, Dir::event, "inner");
+    seen.push_back(e.text);
+  });
+  f.ring.record(Channel::drive, Dir::event, "outer");
+  EXPECT_EQ(seen, (std::vector<std::string>{"inner", "outer"}));
+}
+
 TEST(TraceChannels, Parse) {
   EXPECT_EQ(parse_channels(""), ChannelSet{});
   const auto s = parse_channels("refgo,udp");
