@@ -170,12 +170,14 @@ class ShutdownUnderLoad(unittest.TestCase):
             ]]
             for t in threads:
                 t.start()
-            # traffic on every channel, and a Store in the middle of its file
+            # traffic on every channel (each client thread has connected and been answered: a Store's
+            # file can appear before the last thread's first line), and a Store in the middle of its file
+            def channels():
+                _, body = m.http("GET", "/api/v1/trace?channels=refgo,slcan,http&limit=10000")
+                return {e["channel"] for e in json.loads(body)["events"]}
+            wait_for(lambda: channels() == {"refgo", "slcan", "http"}, what=f"traffic on every channel, attempt {attempt}")
             wait_for(lambda: any(f.endswith(".tmp") for f in os.listdir(m.state_dir)) if os.path.isdir(m.state_dir)
                      else False, what="a Store being written")
-            status, body = m.http("GET", "/api/v1/trace?channels=refgo,slcan,http&limit=10000")
-            channels = {e["channel"] for e in json.loads(body)["events"]}
-            self.assertEqual(channels, {"refgo", "slcan", "http"}, f"attempt {attempt}")
             rc = m.terminate(signal.SIGTERM, timeout=20)
             stop.set()
             for t in threads:
