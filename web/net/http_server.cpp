@@ -65,7 +65,7 @@ void HttpServer::do_accept() {
                    options_.max_clients, peer);
       socket.close(pe);
     } else {
-      line::net::apply_stream_socket_options(socket.native_handle());
+      line::net::apply_stream_socket_options(socket);
       auto s = std::make_shared<HttpSession>(*this, std::move(socket), ids_->next(), peer);
       adopt(s);
       s->start();

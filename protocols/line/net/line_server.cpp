@@ -9,8 +9,6 @@ namespace mcemu::line::net {
 namespace asio = boost::asio;
 using tcp = asio::ip::tcp;
 
-void apply_stream_socket_options(tcp::socket& socket) { apply_stream_socket_options(socket.native_handle()); }
-
 void apply_stream_socket_options(int fd) {
   const int on = 1;
   ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &on, sizeof on);
@@ -32,7 +30,7 @@ LineServer::LineServer(asio::io_context& io, const tcp::endpoint& endpoint, Line
       factory_(std::move(factory)),
       ids_(base::own_ids_unless(options_.ids)) {
   acceptor_.open(endpoint.protocol());
-  acceptor_.set_option(tcp::acceptor::reuse_address(true));
+  acceptor_.set_option(asio::socket_base::reuse_address(true));
   acceptor_.bind(endpoint);
   acceptor_.listen();
 }
@@ -63,12 +61,12 @@ void LineServer::do_accept() {
   if (!accepting_) return;
   // The completion may come after the server is gone (an accept that completed just before stop(),
   // its handler still queued): it checks first.
-  acceptor_.async_accept([this, alive = alive_.watch()](const boost::system::error_code& ec, tcp::socket socket) {
+  acceptor_.async_accept([this, alive = alive_.watch()](const boost::system::error_code& ec, TcpSocket socket) {
     if (alive) on_accept(ec, std::move(socket));
   });
 }
 
-void LineServer::on_accept(const boost::system::error_code& ec, tcp::socket socket) {
+void LineServer::on_accept(const boost::system::error_code& ec, TcpSocket socket) {
   if (!accepting_ || ec == asio::error::operation_aborted) return;
   if (!ec) {
     boost::system::error_code pe;

@@ -24,6 +24,7 @@
 
 #include "base/liveness.hpp"
 #include "protocols/line/net/line_connection.hpp"
+#include "protocols/line/net/tcp_types.hpp"
 #include "protocols/line/stream_session.hpp"
 
 namespace mcemu::line::net {
@@ -48,11 +49,11 @@ class LineServer {
   const LineServerOptions& options() const { return options_; }
 
  private:
-  using Connection = LineConnection<boost::asio::ip::tcp::socket>;
+  using Connection = LineConnection<TcpSocket>;
   void do_accept();
-  void on_accept(const boost::system::error_code& ec, boost::asio::ip::tcp::socket socket);
+  void on_accept(const boost::system::error_code& ec, TcpSocket socket);
 
-  boost::asio::ip::tcp::acceptor acceptor_;
+  TcpAcceptor acceptor_;
   LineServerOptions options_;
   SessionFactory factory_;
   std::map<LineConnectionBase*, std::shared_ptr<Connection>> connections_;
@@ -62,8 +63,10 @@ class LineServer {
 };
 
 // Socket options of refgo.md §1.3 (also used by SLCAN); exposed for tests.
-void apply_stream_socket_options(boost::asio::ip::tcp::socket& socket);
-// The same on a socket's descriptor (sockets of another executor type: web/net/stream.hpp).
 void apply_stream_socket_options(int fd);
+template <class Socket>
+void apply_stream_socket_options(Socket& socket) {
+  apply_stream_socket_options(socket.native_handle());
+}
 
 }  // namespace mcemu::line::net
