@@ -47,6 +47,7 @@ std::optional<ChannelSet> parse_channels(std::string_view text) {
 // ---- ByteFifo
 
 void ByteFifo::write(std::uint64_t at, std::string_view bytes) {
+  if (bytes.empty()) return;  // also: nothing held yet, the buffer may be empty
   const auto start = static_cast<std::size_t>(at % buf_.size());
   const std::size_t first = std::min(bytes.size(), buf_.size() - start);
   std::copy_n(bytes.data(), first, buf_.data() + start);
@@ -63,14 +64,10 @@ void ByteFifo::copy(std::uint64_t at, std::size_t n, std::string& out) const {
 }
 
 void ByteFifo::reallocate(std::size_t capacity) {
-  ByteFifo next;
-  next.buf_.resize(capacity);
-  next.head_ = next.tail_ = head_;
   std::string live;
   copy(head_, size(), live);
-  next.write(head_, live);
-  next.tail_ = tail_;
-  *this = std::move(next);
+  buf_ = std::vector<char>(capacity);  // a new vector: a smaller one gives the old memory back
+  write(head_, live);
 }
 
 std::uint64_t ByteFifo::push(std::string_view a, std::string_view b) {

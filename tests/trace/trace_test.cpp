@@ -159,6 +159,22 @@ TEST(TraceRing, MatchesAPlainModelThroughWrapAroundsAndGrowth) {
   }
 }
 
+// Events without any bytes (no peer, empty text) before and after the first byte: no byte buffer
+// is needed for them, and they read back empty.
+TEST(TraceRing, EventsWithoutBytes) {
+  Fixture f;
+  EXPECT_EQ(f.ring.record(Channel::udp, Dir::rx, ""), 1U);
+  EXPECT_EQ(f.ring.text_capacity(), 0U);
+  f.ring.record(Channel::refgo, Dir::rx, "TP\r", 1, "127.0.0.1:5000");
+  f.ring.record(Channel::udp, Dir::rx, "");
+  const auto r = f.ring.query({});
+  ASSERT_EQ(r.events.size(), 3U);
+  EXPECT_EQ(r.events[0].text, "");
+  EXPECT_EQ(r.events[0].peer, "");
+  EXPECT_EQ(r.events[1].text, "TP\r");
+  EXPECT_EQ(r.events[2].text, "");
+}
+
 // What the ring's texts cost follows what it holds: a burst of long texts grows the byte buffer,
 // and once they have left the ring it shrinks again (within 4× of the bytes held).
 TEST(TraceRing, TextMemoryFollowsWhatTheRingHolds) {
