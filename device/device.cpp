@@ -97,8 +97,7 @@ void Device::build_dictionary() {
   } else {
     od_ = std::make_unique<od::ObjectDictionary>(preset_);
   }
-  apply_config_objects(*od_, config_);
-  factory_ = persistence::snapshot(*od_);
+  apply_config_objects(*od_, config_);  // the factory image (factory_image()) ends here
   log(LogLevel::info,
       "model " + preset_.name + ": " + preset_.identity.device_name + " " + preset_.identity.software_version +
           (preset_.xdd_file.empty() ? std::string() : ", XDD " + preset_.xdd_file) + ", " +
@@ -109,6 +108,14 @@ void Device::build_dictionary() {
   if (setup_.explicit_ip && loaded_ && stored_ip != active_ip()) {
     log(LogLevel::info, "--ip " + active_ip() + " overrides the stored address " + stored_ip);
   }
+}
+
+// persistence.md §5 steps 1–3 again, on a dictionary of its own: the same layout and --config
+// objects give the same image whenever it is made, so it is made only when asked for.
+persistence::Image Device::factory_image() const {
+  od::ObjectDictionary fresh(od_->layout());
+  apply_config_objects(fresh, config_);
+  return persistence::snapshot(fresh);
 }
 
 void Device::build_core() {
@@ -136,8 +143,9 @@ void Device::build_core() {
     if (canopen_) canopen_->node().reload();
     if (env_.wake) env_.wake();
   };
-  persistence_ = std::make_unique<persistence::Service>(*od_, preset_.name, setup_.mcemu_version, factory_,
-                                                        std::move(loaded_), *env_.storage, std::move(hooks));
+  persistence_ = std::make_unique<persistence::Service>(
+      *od_, preset_.name, setup_.mcemu_version, [this] { return factory_image(); }, std::move(loaded_), *env_.storage,
+      std::move(hooks));
   loaded_.reset();
   if (personality_->refgo) refgo_ = std::make_unique<refgo::Interpreter>(*od_, *core_);
 

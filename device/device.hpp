@@ -184,6 +184,7 @@ class Device {
   void log(LogLevel level, const std::string& text) const;
   void build_dictionary();
   void build_core();
+  persistence::Image factory_image() const;  // persistence.md §5 steps 1–3
   void build_lint();
   void on_finding(const lint::Finding& f);
   void build_canopen();
@@ -212,7 +213,6 @@ class Device {
   lint::Config lint_config_;
   std::unique_ptr<od::ObjectDictionary> od_;
   std::optional<persistence::Image> loaded_;  // the state file at start-up, until the service owns it
-  persistence::Image factory_;
   std::unique_ptr<core::DriveCore> core_;
   std::unique_ptr<LintHub> lint_;
   std::unique_ptr<iofunc::IoFunctions> io_;

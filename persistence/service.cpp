@@ -24,12 +24,12 @@ void take_group(Image& target, const Image& source, Group group, const od::Objec
 
 }  // namespace
 
-Service::Service(od::ObjectDictionary& od, std::string model, std::string mcemu_version, Image factory,
+Service::Service(od::ObjectDictionary& od, std::string model, std::string mcemu_version, std::function<Image()> factory,
                  std::optional<Image> on_file, Storage& storage, ServiceHooks hooks)
     : od_(od),
       model_(std::move(model)),
       version_(std::move(mcemu_version)),
-      factory_(std::move(factory)),
+      make_factory_(std::move(factory)),
       durable_(std::move(on_file)),
       expected_(durable_),
       storage_(storage),
@@ -42,6 +42,11 @@ Service::Service(od::ObjectDictionary& od, std::string model, std::string mcemu_
     od_.on_write(0x1011, s, [this](od::WriteRequest& r) { return restore_all(r); });
   }
   if (od_.find(0x3010, 1)) od_.on_write(0x3010, 1, [this](od::WriteRequest& r) { return store_motor(r); });
+}
+
+const Image& Service::factory() const {
+  if (!factory_) factory_ = make_factory_();
+  return *factory_;
 }
 
 Image Service::with_counter(Image img) {
@@ -100,7 +105,7 @@ od::AbortCode Service::store_all(od::WriteRequest& req) {
 
 od::AbortCode Service::store_motor(od::WriteRequest& req) {
   if (get_number(req.value) != k_save) return od::AbortCode::cannot_store;
-  Image img = expected_ ? *expected_ : factory_;
+  Image img = expected_ ? *expected_ : factory();
   take_group(img, snapshot(od_), Group::motor, od_);
   submit(with_counter(std::move(img)), std::move(*req.done),
          [this](bool ok) { od_.set(od_.handle(0x3010, 2), od::Value{std::int64_t{ok ? 1 : 0}}); });
@@ -110,10 +115,10 @@ od::AbortCode Service::store_motor(od::WriteRequest& req) {
 od::AbortCode Service::restore_all(od::WriteRequest& req) {
   if (get_number(req.value) != k_load) return od::AbortCode::cannot_store;
   if (hooks_.operation_enabled && hooks_.operation_enabled()) return od::AbortCode::device_state;
-  Image img = factory_;
+  Image img = factory();
   // Survivors: the motor group and the network identity keep their stored values (or factory
   // values if never stored).
-  const Image& kept = expected_ ? *expected_ : factory_;
+  const Image& kept = expected_ ? *expected_ : factory();
   take_group(img, kept, Group::motor, od_);
   take_group(img, kept, Group::network, od_);
   img.home_offset_inc = 0;
@@ -122,7 +127,7 @@ od::AbortCode Service::restore_all(od::WriteRequest& req) {
   submit(with_counter(std::move(img)), std::move(*req.done), [this](bool ok) {
     if (!ok) return;
     std::vector<od::StoredValue> params;
-    for (const auto& sv : factory_.objects) {
+    for (const auto& sv : factory().objects) {
       const auto* info = od_.info(sv.index, sv.sub);
       if (info && group_of(*info) == Group::parameters) params.push_back(sv);
     }

@@ -49,12 +49,14 @@ struct ServiceHooks {
 
 class Service {
  public:
-  // `factory` is the factory image (XDD → preset → --config); `on_file` what the state file holds
-  // (nullopt if none was loaded).
-  Service(od::ObjectDictionary& od, std::string model, std::string mcemu_version, Image factory,
+  // `factory` makes the factory image (XDD → preset → --config) the first time it is needed (a
+  // restore, a motor store, a factory value asked for): most drives never need it, and a fleet
+  // would hold one copy per drive. It must give the same image whenever it is called. `on_file` is
+  // what the state file holds (nullopt if none was loaded).
+  Service(od::ObjectDictionary& od, std::string model, std::string mcemu_version, std::function<Image()> factory,
           std::optional<Image> on_file, Storage& storage, ServiceHooks hooks);
 
-  const Image& factory() const { return factory_; }
+  const Image& factory() const;
   // What the state file holds now (nullopt if nothing was stored): NMT reset node / reset
   // communication rebuild RAM from factory() + on_file() (persistence.md §5, §7).
   const std::optional<Image>& on_file() const { return durable_; }
@@ -74,9 +76,10 @@ class Service {
   od::ObjectDictionary& od_;
   std::string model_;
   std::string version_;
-  Image factory_;
-  std::optional<Image> durable_;   // what the file holds now
-  std::optional<Image> expected_;  // what it will hold when the queued writes are done
+  std::function<Image()> make_factory_;
+  mutable std::optional<Image> factory_;  // made by make_factory_ on first use
+  std::optional<Image> durable_;          // what the file holds now
+  std::optional<Image> expected_;         // what it will hold when the queued writes are done
   Storage& storage_;
   ServiceHooks hooks_;
   nlohmann::json script_;

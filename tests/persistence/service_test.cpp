@@ -38,7 +38,8 @@ struct Fixture {
     hooks.after_restore = [this] { ++restores; };
     hooks.reset_script = [this] { ++script_resets; };
     hooks.home_offset_inc = [] { return std::int64_t{4242}; };
-    service = std::make_unique<Service>(od, preset.name, "0.1.0", snapshot(od), std::move(on_file), storage, hooks);
+    service = std::make_unique<Service>(
+        od, preset.name, "0.1.0", [f = snapshot(od)] { return f; }, std::move(on_file), storage, hooks);
   }
   AbortCode write(std::uint16_t i, std::uint8_t s, std::int64_t v, std::vector<AbortCode>* results = nullptr) {
     return od.write(i, s, Value{v}, Origin::sdo, [results](AbortCode c) {

@@ -108,7 +108,7 @@ TEST(WorkerStorage, StoreThroughTheServiceCompletesTheOdWrite) {
   const auto preset = *model::find_preset("MC349");
   od::ObjectDictionary od(preset);
   WorkerStorage storage(io, dir.path / "drive-1.json", {});
-  Service service(od, preset.name, "test", snapshot(od), std::nullopt, storage, {});
+  Service service(od, preset.name, "test", [f = snapshot(od)] { return f; }, std::nullopt, storage, {});
   int done = 0;
   std::vector<od::AbortCode> codes;
   for (int i = 0; i < 5; ++i) {
