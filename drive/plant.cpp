@@ -41,6 +41,7 @@ PlantOutput Plant::step(const PlantInput& in) {
   const double c = params_.coulomb;
   const double b = params_.viscous;
   const double w_eps = params_.kind == model::Kind::rotary ? 1e-4 : 1e-6;
+  const double h_m = k_h / m;  // one division per step, not one per sub-step (the loop's critical path)
   const double pd0 = in.demand0.p / kq;
   const double pd1 = in.demand1.p / kq;
   const double vd0 = in.demand0.v / kq;
@@ -80,10 +81,10 @@ PlantOutput Plant::step(const PlantInput& in) {
     const double tau_d = tau_m + external_load_;
     double w_next;
     if (std::fabs(w_) > w_eps) {
-      w_next = w_ + k_h * (tau_d - b * w_ - c * sign_of(w_)) / m;
+      w_next = w_ + h_m * (tau_d - b * w_ - c * sign_of(w_));
       if (sign_of(w_next) != sign_of(w_)) w_next = 0;
     } else {
-      w_next = std::fabs(tau_d) <= c ? 0.0 : k_h * (tau_d - c * sign_of(tau_d)) / m;
+      w_next = std::fabs(tau_d) <= c ? 0.0 : h_m * (tau_d - c * sign_of(tau_d));
     }
     double q_next = q_ + k_h * w_next;
     if (q_next > stop_max) {
