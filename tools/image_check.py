@@ -35,6 +35,8 @@ import time
 import urllib.request
 
 DEFAULTS = {"refgo": ("tcp", 10001), "slcan": ("tcp", 15001), "http": ("tcp", 80), "udp": ("udp", 14999)}
+# EXPOSE also names the FAULHABER binary protocol, which only the FH_ models open (docs/faulhaber.md).
+EXPOSED = {f"{port}/{proto}" for proto, port in DEFAULTS.values()} | {"10002/tcp"}
 LISTEN_RE = re.compile(r"listening: (\w+) (tcp|udp) (\S+):(\d+)")
 
 
@@ -102,9 +104,8 @@ def main():
     workdir = config.get("WorkingDir") or "/"
     env = dict(e.split("=", 1) for e in config.get("Env") or [])
     exposed = set(config.get("ExposedPorts") or {})
-    expected = {f"{port}/{proto}" for proto, port in DEFAULTS.values()}
-    if exposed != expected:
-        fail(f"EXPOSE {sorted(exposed)} is not the drive's default ports {sorted(expected)}")
+    if exposed != EXPOSED:
+        fail(f"EXPOSE {sorted(exposed)} is not the drives' default ports {sorted(EXPOSED)}")
     volumes = sorted(config.get("Volumes") or {})
     if volumes != ["/var/lib/mcemu/state"]:
         fail(f"VOLUME {volumes} is not the state directory of the ENTRYPOINT (/var/lib/mcemu/state)")

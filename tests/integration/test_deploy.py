@@ -22,7 +22,7 @@ import yaml
 from mcemu_harness import MCEMU, Mcemu
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(__file__), "../.."))
-SERVICES = {"refgo": "tcp", "slcan": "tcp", "http": "tcp", "udp": "udp"}
+SERVICES = {"refgo": "tcp", "slcan": "tcp", "http": "tcp", "udp": "udp", "faulhaber": "tcp"}
 
 
 def read(relative):
@@ -87,7 +87,7 @@ def assert_starts_as(tc, args, ip, model, where):
 
 class CommandLines(unittest.TestCase):
     def test_the_help_text_names_every_port_default(self):
-        self.assertEqual(DEFAULT_PORTS, {"refgo": 10001, "slcan": 15001, "http": 80, "udp": 14999})
+        self.assertEqual(DEFAULT_PORTS, {"refgo": 10001, "slcan": 15001, "http": 80, "udp": 14999, "faulhaber": 10002})
 
     def test_dockerfile(self):
         self.assertEqual(DOCKER["expose"], {f"{DEFAULT_PORTS[s]}/{p}" for s, p in SERVICES.items()})
