@@ -1,15 +1,19 @@
 // The bundle's own configuration checks (device/device.cpp): the "faulhaber" keys the bundle reads
 // itself — the MC BASIC budget, whose upper bound keeps one drive step cheap (docs/faulhaber.md
-// "Execution model").
+// "Execution model"). The factory image the bundle makes when it is first asked for.
 #include "device/device.hpp"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "device/config_error.hpp"
+#include "persistence/state_document.hpp"
 #include "tests/support/device_fixture.hpp"
 
 namespace mcemu::device {
@@ -38,6 +42,39 @@ TEST(BasicBudget, RefusesZeroAboveTheMaximumAndNonIntegers) {
           << bad.dump();
     }
   }
+}
+
+// persistence.md §5 steps 1–3: preset → dictionary → --config objects. The image is made when a
+// restore, a motor store or a factory value first asks for it, long after the state file was loaded,
+// --ip overlaid and RAM written: none of those may reach it.
+TEST(FactoryImage, IsPresetAndConfigObjectsNotStateFileIpOrRam) {
+  mcemu::testing::MemoryStorage storage;
+  device::Setup setup;
+  setup.model = "MC349";
+  setup.config = json{{"objects", {{"6083.00", 2000}}}};
+  setup.explicit_ip = std::array<std::uint8_t, 4>{10, 0, 0, 7};
+  device::Environment env;
+  env.storage = &storage;
+  env.load_state = [](od::ObjectDictionary& od, const std::string&) -> std::optional<persistence::Image> {
+    const std::vector<od::StoredValue> stored = {{0x6083, 0, od::Value{std::int64_t{4444}}},
+                                                 {0x6084, 0, od::Value{std::int64_t{3333}}}};
+    od.load_values(stored);
+    return persistence::snapshot(od);
+  };
+  Device dev(std::move(setup), std::move(env));
+  ASSERT_EQ(dev.od().number(0x6083, 0), 4444);
+  ASSERT_EQ(dev.od().number(0x5007, 1), 10);
+  ASSERT_EQ(dev.od().write(0x6084, 0, od::Value{std::int64_t{5555}}, od::Origin::sdo), od::AbortCode::none);
+
+  const od::ObjectDictionary factory_preset(dev.preset());
+  EXPECT_EQ(dev.factory_value(0x6083, 0), od::Value{std::int64_t{2000}});
+  EXPECT_EQ(dev.factory_value(0x6084, 0), od::Value{factory_preset.number(0x6084, 0)});
+  EXPECT_EQ(dev.factory_value(0x5007, 1), od::Value{factory_preset.number(0x5007, 1)});
+  const auto dict = dev.factory_dictionary();
+  EXPECT_EQ(dict->number(0x6083, 0), 2000);
+  EXPECT_EQ(dict->number(0x6084, 0), factory_preset.number(0x6084, 0));
+  EXPECT_NE(factory_preset.number(0x6084, 0), 3333);
+  EXPECT_NE(factory_preset.number(0x5007, 1), 10);
 }
 
 }  // namespace
