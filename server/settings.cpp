@@ -224,7 +224,8 @@ void apply_config(Settings& s, const json& config, const std::vector<std::string
   // per-service connection limits (README: a per-service key overrides --max-clients)
   for (const auto& [section, target] : {std::pair<const char*, std::size_t*>{"refgo", &s.refgo_max_clients},
                                         {"slcan", &s.slcan_max_clients},
-                                        {"http", &s.http_max_clients}}) {
+                                        {"http", &s.http_max_clients},
+                                        {"faulhaber", &s.faulhaber_max_clients}}) {
     if (config.contains(section) && config[section].contains("max_clients")) {
       const std::string what = std::string("config key \"") + section + ".max_clients\"";
       *target = parse_clients(scalar_text(config[section]["max_clients"], what), what);

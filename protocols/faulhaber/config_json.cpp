@@ -21,9 +21,10 @@ std::int64_t integer(const nlohmann::json& v, const std::string& key, std::int64
   return n;
 }
 
-// Keys of the same section that other parts of the personality read and check.
-constexpr std::array<std::string_view, 4> k_other_keys = {"device_name", "serial", "autostart",
-                                                          "basic_statements_per_ms"};
+// Keys of the same section that other parts of the personality read and check (max_clients: the
+// server's connection limit of the TCP port, server/settings.cpp).
+constexpr std::array<std::string_view, 5> k_other_keys = {"device_name", "serial", "autostart",
+                                                          "basic_statements_per_ms", "max_clients"};
 
 }  // namespace
 

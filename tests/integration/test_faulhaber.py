@@ -536,7 +536,17 @@ class Tcp(OneShot, unittest.TestCase):
 
 class Limits(unittest.TestCase):
     def test_max_clients(self):
-        with Mcemu(*FH, "--max-clients", "2") as m:
+        # --max-clients (every port) and the port's own config key faulhaber.max_clients
+        cfg = config_file({"faulhaber": {"max_clients": 2}})
+        try:
+            for args in (("--max-clients", "2"), ("--config", cfg)):
+                with self.subTest(args=args[0]):
+                    self._limit_of_two(args)
+        finally:
+            os.unlink(cfg)
+
+    def _limit_of_two(self, args):
+        with Mcemu(*FH, *args) as m:
             port = m.ports["faulhaber"]
             a, b = fc.open_tcp(port), fc.open_tcp(port)
             try:

@@ -156,6 +156,7 @@ TEST(Config, FlagsWithoutDashesAndCommandLineWins) {
                     {"max-clients", 4},
                     {"slcan", {{"max_clients", 2}}},
                     {"http", {{"ws_max_clients", 120}}},
+                    {"faulhaber", {{"max_clients", 3}}},
                     {"objects", {{"6083.00", 2000}}}},
                {"model"});
   EXPECT_EQ(s.model, "MC349") << "the command line wins";
@@ -165,6 +166,7 @@ TEST(Config, FlagsWithoutDashesAndCommandLineWins) {
   EXPECT_EQ(s.refgo_max_clients, 4u);
   EXPECT_EQ(s.slcan_max_clients, 2u) << "a per-service key overrides max-clients";
   EXPECT_EQ(s.http_max_clients, 4u);
+  EXPECT_EQ(s.faulhaber_max_clients, 3u) << "the FAULHABER port's own key";
   EXPECT_EQ(s.ws_max_clients, 120u);
   EXPECT_EQ(Settings{}.ws_max_clients, 16u);
   EXPECT_EQ(s.config["objects"]["6083.00"], 2000);
@@ -174,6 +176,7 @@ TEST(Config, InvalidValuesAreUsageErrors) {
   for (const json& bad :
        {json{{"modell", "x"}}, json{{"http_port", "eighty"}}, json{{"http_port", 70000}}, json{{"objects", 5}},
         json{{"model", "MC999"}}, json{{"slcan", {{"max_clients", 0}}}}, json{{"http", {{"ws_max_clients", 0}}}},
+        json{{"faulhaber", {{"max_clients", 0}}}}, json{{"faulhaber", {{"max_clients", "two"}}}},
         json{{"http", {{"ws_max_clients", "many"}}}}, json{{"ip", true}}, json::array()}) {
     Settings s;
     EXPECT_THROW(apply_config(s, bad, {}), UsageError) << bad.dump();

@@ -53,5 +53,13 @@ TEST(FaulhaberConfig, BadValuesNameTheKey) {
   EXPECT_THROW(faulhaber_config_from_json(json::array()), std::invalid_argument);
 }
 
+// The keys other parts read and check themselves (the bundle, the server's connection limit) pass.
+TEST(FaulhaberConfig, KeysOfOtherPartsPass) {
+  for (const char* text : {R"({"device_name": "X"})", R"({"serial": 7})", R"({"autostart": true})",
+                           R"({"basic_statements_per_ms": 50})", R"({"max_clients": 2})"}) {
+    EXPECT_NO_THROW((void)faulhaber_config_from_json(json::parse(text))) << text;
+  }
+}
+
 }  // namespace
 }  // namespace mcemu::faulhaber
