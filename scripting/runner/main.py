@@ -22,8 +22,11 @@ def _install_line_sampler(channel):
         f = frame
         while f is not None and f.f_code.co_filename != FILENAME:
             f = f.f_back
-        if f is not None:
-            channel.set_line(f.f_lineno)
+        # f_lineno is None while the frame stands between lines (CPython 3.11); whatever a handler
+        # raises is raised in the script at the interrupted point, so it must not raise.
+        line = f.f_lineno if f is not None else None
+        if line is not None:
+            channel.set_line(line)
 
     signal.signal(signal.SIGUSR1, on_usr1)
 

@@ -197,6 +197,36 @@ class Tracebacks(unittest.TestCase):
         self.assertEqual(out.count('File'), 1)
 
 
+class LineSampler(unittest.TestCase):
+    """SIGUSR1 stores the line of the innermost <stdin> frame; a frame between lines has no line
+    (f_lineno None), and the handler must not raise into the script then (it did: "TypeError:
+    unsupported operand type(s) for &: 'NoneType' and 'int'" at line -1, under load)."""
+
+    def handler(self):
+        import signal
+        before = signal.getsignal(signal.SIGUSR1)
+        self.addCleanup(signal.signal, signal.SIGUSR1, before)
+        lines = []
+        channel = types.SimpleNamespace(set_line=lines.append)
+        sys.modules['_mcemu_main']._install_line_sampler(channel)
+        return signal.getsignal(signal.SIGUSR1), lines
+
+    @staticmethod
+    def frame(filename, lineno, back=None):
+        return types.SimpleNamespace(f_code=types.SimpleNamespace(co_filename=filename), f_lineno=lineno, f_back=back)
+
+    def test_innermost_script_frame(self):
+        on_usr1, lines = self.handler()
+        on_usr1(10, self.frame('<mcemu:_mcemu_modules>', 3, self.frame('<stdin>', 7)))
+        self.assertEqual(lines, [7])
+
+    def test_frame_between_lines_stores_nothing(self):
+        on_usr1, lines = self.handler()
+        on_usr1(10, self.frame('<stdin>', None))
+        on_usr1(10, self.frame('<mcemu:_mcemu_modules>', 5))
+        self.assertEqual(lines, [])
+
+
 class Conversions(unittest.TestCase):
     def test_to_int(self):
         self.assertEqual(modules.to_int(True), 1)
