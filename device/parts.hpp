@@ -23,6 +23,7 @@ class FaultsPart final : public sim::Part {
   FaultsPart(FaultInjections& faults, const core::DriveCore& core) : faults_(faults), core_(core) {}
   void step() override { faults_.on_step(); }
   std::uint64_t quiet_steps() const override;
+  void prefetch() const override { __builtin_prefetch(&faults_); }
 
  private:
   FaultInjections& faults_;
@@ -38,6 +39,7 @@ class ScopePart final : public sim::Part {
   void step() override { scope_.on_step(core_.time_ms(), od_); }
   std::uint64_t quiet_steps() const override { return sim::k_forever; }
   void skip(std::uint64_t n) override;
+  void prefetch() const override { __builtin_prefetch(&scope_); }
 
  private:
   Scope& scope_;
@@ -51,6 +53,7 @@ class RefgoPart final : public sim::Part {
   RefgoPart(refgo::Interpreter& refgo, const core::DriveCore& core) : refgo_(refgo), core_(core) {}
   void step() override { refgo_.on_step(); }
   std::uint64_t quiet_steps() const override;
+  void prefetch() const override { __builtin_prefetch(&refgo_); }
 
  private:
   refgo::Interpreter& refgo_;
@@ -67,6 +70,7 @@ class CanopenPart final : public sim::Part {
   void step() override { bus_.step(); }
   std::uint64_t quiet_steps() const override;
   void skip(std::uint64_t n) override;
+  void prefetch() const override { __builtin_prefetch(&bus_); }
 
  private:
   CanopenBus& bus_;

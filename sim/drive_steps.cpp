@@ -44,6 +44,24 @@ void DriveSteps::skip(std::uint64_t n) {
   for (Part* p : parts_) p->skip(n);
 }
 
+void DriveSteps::prefetch(int level) const {
+  switch (level) {
+    case 0:
+      __builtin_prefetch(&od_);
+      __builtin_prefetch(&core_);
+      __builtin_prefetch(io_);
+      __builtin_prefetch(parts_.data());
+      break;
+    case 1:
+      od_.prefetch();
+      for (const Part* p : parts_) __builtin_prefetch(p);
+      break;
+    default:
+      for (const Part* p : parts_) p->prefetch();
+      break;
+  }
+}
+
 std::uint64_t DriveSteps::next_deadline_ms() const {
   const std::uint64_t q = quiet_steps();
   return q == k_forever ? k_forever : time_ms() + q + 1;

@@ -30,6 +30,9 @@ class Part {
   virtual std::uint64_t quiet_steps() const = 0;
   // n ≤ quiet_steps() steps at once (parts that count their own time advance it here).
   virtual void skip(std::uint64_t n) { (void)n; }
+  // Starts loading into the caches the objects step() reads through this part's references (a
+  // hint, sim::Steppable::prefetch; changes nothing).
+  virtual void prefetch() const {}
 };
 
 class DriveSteps final : public Steppable {
@@ -42,6 +45,7 @@ class DriveSteps final : public Steppable {
   std::uint64_t quiet_steps() const override;
   void skip(std::uint64_t n) override;
   void touch() override { dirty_ = true; }
+  void prefetch(int level) const override;
 
   // The same in absolute drive time (core time_ms(), which restarts at 0 on a power cycle):
   // the time reached by the next step that must run (k_forever: none), and advancing to t.

@@ -24,7 +24,14 @@ Advanced advance(Steppable& s, std::uint64_t n, std::uint64_t max_full, const st
 }
 
 void Fleet::step() {
-  for (Steppable* d : drives_) {
+  const std::size_t n = drives_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    Steppable* d = drives_[i];
+    if (i + k_prefetch_levels + 1 < n) __builtin_prefetch(drives_[i + k_prefetch_levels + 1]);
+    for (int level = 0; level < k_prefetch_levels; ++level) {
+      const std::size_t k = i + static_cast<std::size_t>(k_prefetch_levels - level);
+      if (k < n) drives_[k]->prefetch(level);
+    }
     if (d->quiet_steps() > 0) {
       d->skip(1);
     } else {

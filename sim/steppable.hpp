@@ -24,6 +24,11 @@ class Steppable {
   virtual std::uint64_t quiet_steps() const = 0;
   virtual void skip(std::uint64_t n) = 0;
   virtual void touch() = 0;
+  // A hint that step() follows soon: start loading into the caches what a step reads, `level`
+  // pointers away from this object (0: the objects it refers to, 1: what those refer to, ...). A
+  // caller issues level k one step of another drive after level k - 1 (Fleet::step), so that each
+  // level's pointers have arrived. Changes nothing.
+  virtual void prefetch(int level) const { (void)level; }
 };
 
 struct Advanced {
@@ -38,7 +43,9 @@ Advanced advance(Steppable& s, std::uint64_t n, std::uint64_t max_full = k_forev
                  const std::function<bool()>& hold = {});
 
 // N drives on one clock (spec README --drives): a drive that is quiet while another needs a step
-// is skipped by one step instead of stepped.
+// is skipped by one step instead of stepped. While it steps one drive it prefetches the next ones,
+// a level deeper for each drive nearer: 1000 drives no longer fit the caches, and a step chases
+// pointers (dictionary, core, parts) the hardware cannot guess (issue 26; bench/device_bench).
 class Fleet final : public Steppable {
  public:
   void add(Steppable& drive) { drives_.push_back(&drive); }
@@ -46,6 +53,8 @@ class Fleet final : public Steppable {
   std::uint64_t quiet_steps() const override;
   void skip(std::uint64_t n) override;
   void touch() override;
+
+  static constexpr int k_prefetch_levels = 3;
 
  private:
   std::vector<Steppable*> drives_;

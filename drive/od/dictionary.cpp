@@ -51,8 +51,9 @@ ObjectDictionary::ObjectDictionary(std::shared_ptr<const Layout> layout)
     : layout_(std::move(layout)),
       numbers_(layout_->factory_numbers()),
       hooks_(layout_->size()),
-      plain_(layout_->unchecked_flags()),
+      plain_(layout_->size()),
       watched_(layout_->size()) {
+  for (Handle h = 0; h < layout_->size(); ++h) plain_.set(h, layout_->unchecked(h));
   strings_.reserve(layout_->string_handles().size());
   for (const Handle h : layout_->string_handles()) strings_.push_back(std::get<std::string>(layout_->info(h).factory));
   install_error_history_rule();
@@ -225,15 +226,40 @@ AbortCode ObjectDictionary::write_value(std::uint16_t index, std::uint8_t sub, c
   return commit(*h, std::move(*v), origin, done);
 }
 
+// The cache line of numbers_[h], counted from the line numbers_ starts in.
+std::size_t ObjectDictionary::number_line(Handle h) const {
+  return (reinterpret_cast<std::uintptr_t>(&numbers_[h]) >> 6) -
+         (reinterpret_cast<std::uintptr_t>(numbers_.data()) >> 6);
+}
+
+void ObjectDictionary::prefetch() const {
+  const auto base = reinterpret_cast<std::uintptr_t>(numbers_.data()) & ~std::uintptr_t{63};
+  for (std::size_t w = 0; w < set_lines_.size(); ++w) {
+    for (std::uint64_t bits = set_lines_[w]; bits != 0; bits &= bits - 1) {
+      __builtin_prefetch(
+          reinterpret_cast<const void*>(base + 64 * (64 * w + static_cast<std::size_t>(__builtin_ctzll(bits)))));
+    }
+  }
+  plain_.prefetch();
+  watched_.prefetch();
+}
+
 AbortCode ObjectDictionary::set(Handle h, const Value& value) {
   // The drive's own writes of its actual values, every step: for a plain entry (a number without
   // limits, validator or write hook) the compact arrays decide, and an unchanged value touches no
   // entry (issue 26: a fleet's drives evict each other's cache lines).
+  if (const std::size_t line = number_line(h); line < 64 * set_lines_.size()) {
+    set_lines_[line / 64] |= std::uint64_t{1} << (line % 64);
+  }
   if (plain_[h] && std::holds_alternative<std::int64_t>(value)) {
-    const auto n = convert_number(layout_->type(h), std::get<std::int64_t>(value));
-    if (!n) return n.error();
-    if (*n == numbers_[h]) return AbortCode::none;
-    store(h, Value{*n});
+    std::int64_t n = std::get<std::int64_t>(value);
+    if (const Range r = type_range(layout_->type(h)); n < r.min || n > r.max) {
+      const auto converted = convert_number(layout_->type(h), n);
+      if (!converted) return converted.error();
+      n = *converted;
+    }
+    if (n == numbers_[h]) return AbortCode::none;
+    store(h, Value{n});
     return AbortCode::none;
   }
   auto v = convert_for_write(layout_->info(h), value);
@@ -319,7 +345,7 @@ void set_hook(std::deque<Hook>& hooks, std::uint16_t& slot, Hook hook, const cha
 void ObjectDictionary::on_write(std::uint16_t index, std::uint8_t sub, WriteHook hook) {
   const Handle h = handle(index, sub);
   set_hook(write_hooks_, hooks_[h].write, std::move(hook), "write", index, sub);
-  plain_[h] = is_plain(h);
+  plain_.set(h, is_plain(h));
 }
 
 void ObjectDictionary::on_read(std::uint16_t index, std::uint8_t sub, ReadHook hook) {
@@ -328,7 +354,7 @@ void ObjectDictionary::on_read(std::uint16_t index, std::uint8_t sub, ReadHook h
 
 void ObjectDictionary::on_change(ChangeListener listener) {
   listeners_.push_back({{}, std::move(listener)});
-  watched_.assign(watched_.size(), true);
+  watched_.set_all();
 }
 
 void ObjectDictionary::on_change(std::initializer_list<std::pair<std::uint16_t, std::uint8_t>> entries,
@@ -337,7 +363,7 @@ void ObjectDictionary::on_change(std::initializer_list<std::pair<std::uint16_t, 
   for (const auto& [index, sub] : entries) {
     if (const auto h = find(index, sub)) {
       mine[*h] = true;
-      watched_[*h] = true;
+      watched_.set(*h, true);
     }
   }
   listeners_.push_back({std::move(mine), std::move(listener)});

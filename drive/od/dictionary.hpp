@@ -13,6 +13,7 @@
 //   by load_values() (bulk load: no hooks, no notifications).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
@@ -155,6 +156,10 @@ class ObjectDictionary {
   Handle handle(std::uint16_t index, std::uint8_t sub) const;  // throws std::out_of_range if absent
   const EntryInfo& info(Handle h) const { return layout_->info(h); }
   std::int64_t number(Handle h) const { return numbers_[h]; }
+  // Starts loading into the caches the stored numbers the drive itself wrote in its last steps
+  // (set(): the actual values a moving drive writes every step) and the flags set() tests. A hint
+  // for a fleet's clock before it steps this drive (sim::Steppable::prefetch); changes nothing.
+  void prefetch() const;
   Value value(Handle h) const;
   AbortCode set(Handle h, const Value& v);
 
@@ -191,8 +196,25 @@ class ObjectDictionary {
   std::vector<std::int64_t> numbers_;
   std::vector<std::string> strings_;
   std::vector<HookSlots> hooks_;
-  // is_plain() by handle, as bits (a step's writes test ~100 of them: two cache lines, not ~100).
-  std::vector<bool> plain_;
+  // Flags by handle, as bits in words whose address prefetch() can give (a step's writes test ~100
+  // of them: two cache lines, not ~100).
+  class HandleBits {
+   public:
+    explicit HandleBits(std::size_t n) : words_((n + 63) / 64) {}
+    bool operator[](Handle h) const { return (words_[h / 64] >> (h % 64)) & 1u; }
+    void set(Handle h, bool on) {
+      const std::uint64_t bit = std::uint64_t{1} << (h % 64);
+      words_[h / 64] = on ? words_[h / 64] | bit : words_[h / 64] & ~bit;
+    }
+    void set_all() { words_.assign(words_.size(), ~std::uint64_t{0}); }
+    void prefetch() const {
+      for (std::size_t i = 0; i < words_.size(); i += 8) __builtin_prefetch(&words_[i]);
+    }
+
+   private:
+    std::vector<std::uint64_t> words_;
+  };
+  HandleBits plain_;  // is_plain()
   // Deques: a hook may register another while it runs.
   std::deque<WriteHook> write_hooks_;
   std::deque<ReadHook> read_hooks_;
@@ -201,7 +223,11 @@ class ObjectDictionary {
     ChangeListener fn;
   };
   std::vector<Listener> listeners_;
-  std::vector<bool> watched_;  // by handle: a listener wants the entry
+  HandleBits watched_;  // a listener wants the entry
+  // The 64-byte lines of numbers_ that set() has written (bit k of word w: line 64·w + k), for
+  // prefetch(); handles past the 256th line are not tracked.
+  std::array<std::uint64_t, 4> set_lines_{};
+  std::size_t number_line(Handle h) const;
   WriteTap tap_;
   int helper_depth_ = 0;
   std::uint64_t generation_ = 0;

@@ -70,7 +70,6 @@ class Layout {
   DataType type(Handle h) const { return types_[h]; }
   // A number without limits or validator: a write of the right type needs no check beyond its range.
   bool unchecked(Handle h) const { return unchecked_[h]; }
-  const std::vector<bool>& unchecked_flags() const { return unchecked_; }
   // A master can write the entry (rw or wo): a setting, not a value the drive reports.
   bool setting(Handle h) const { return setting_[h]; }
   std::int64_t factory_number(Handle h) const { return factory_numbers_[h]; }

@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <tuple>
+#include <vector>
+
 #include "tests/sim/fake_target.hpp"
 
 namespace mcemu::sim {
@@ -66,6 +70,49 @@ TEST(Fleet, QuietDrivesAreSkippedWhileAnotherSteps) {
   EXPECT_EQ(b.t, 10u);
   fleet.touch();
   EXPECT_TRUE(a.dirty && b.dirty);
+}
+
+// The prefetch hints of Fleet::step: a drive far enough down the list gets every level in order,
+// each one while an earlier drive steps, all before its own step; the first drive gets none.
+TEST(Fleet, PrefetchesTheNextDrivesLevelByLevelBeforeTheirStep) {
+  using Event = std::tuple<char, int, int>;  // ('s', drive, 0) a step, ('p', drive, level) a hint
+  struct Logged final : Steppable {
+    std::vector<Event>* log = nullptr;
+    int id = 0;
+    void step() override { log->emplace_back('s', id, 0); }
+    std::uint64_t quiet_steps() const override { return 0; }
+    void skip(std::uint64_t) override {}
+    void touch() override {}
+    void prefetch(int level) const override { log->emplace_back('p', id, level); }
+  };
+  std::vector<Event> log;
+  std::vector<Logged> drives(6);
+  Fleet fleet;
+  for (int k = 0; k < 6; ++k) {
+    drives[k].log = &log;
+    drives[k].id = k;
+    fleet.add(drives[k]);
+  }
+  fleet.step();
+  const auto at = [&](Event e) {
+    const auto it = std::find(log.begin(), log.end(), e);
+    return it == log.end() ? -1 : static_cast<int>(it - log.begin());
+  };
+  static_assert(Fleet::k_prefetch_levels == 3);
+  for (int k = 0; k < 6; ++k) {
+    int last = -1;
+    for (int level = std::max(0, 3 - k); level < 3; ++level) {  // drive k steps k drives after the first
+      const int p = at({'p', k, level});
+      ASSERT_GE(p, 0) << "drive " << k << " level " << level;
+      EXPECT_GT(p, last) << "drive " << k << " level " << level;
+      EXPECT_LT(p, at({'s', k - 1, 0})) << "drive " << k << " level " << level;
+      last = p;
+    }
+    EXPECT_GT(at({'s', k, 0}), last) << "drive " << k;
+  }
+  EXPECT_EQ(std::count_if(log.begin(), log.end(), [](const Event& e) { return std::get<0>(e) == 'p'; }),
+            3 + 3 + 3 + 2 + 1);
+  EXPECT_EQ(std::count_if(log.begin(), log.end(), [](const Event& e) { return std::get<0>(e) == 's'; }), 6);
 }
 
 }  // namespace
