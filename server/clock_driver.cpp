@@ -52,14 +52,14 @@ void ClockDriver::stop() {
   timer_.cancel();
 }
 
-void ClockDriver::sync() {
+void ClockDriver::sync(sim::Steppable* drive) {
   if (!running_) return;
-  reschedule(logic_.sync(now()));
+  reschedule(logic_.sync(now(), drive));
 }
 
-void ClockDriver::wake() {
+void ClockDriver::wake(sim::Steppable* drive) {
   if (!running_) return;
-  reschedule(logic_.touch());
+  reschedule(logic_.touch(drive));
 }
 
 bool ClockDriver::advance(std::uint64_t ms, std::function<void()> done) {

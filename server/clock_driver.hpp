@@ -12,6 +12,9 @@
 //           persistence completion) touches or reads the drive — drive time is then current;
 //   wake()  after anything outside a step changed the drive or queued output for it (a CANopen
 //           node's wake hook, a script's OD write) — cheap: marks the next step full, re-plans.
+// Both name the drive (DriveUnit passes its own): in a fleet only that drive's next step is full,
+// and the fleet asks only that drive again whether it is quiet (sim::Fleet). Without a drive:
+// every drive (shutdown).
 #pragma once
 
 #include <boost/asio/io_context.hpp>
@@ -40,8 +43,10 @@ class ClockDriver {
   void start();
   void stop();  // pending advance() requests are dropped (their done never runs)
 
-  void sync();
-  void wake();
+  // `drive`: the one drive of the fleet the input or change is for (only its next step is full);
+  // null: every drive.
+  void sync(sim::Steppable* drive = nullptr);
+  void wake(sim::Steppable* drive = nullptr);
 
   // web.md §8.10: manual clock only, 1 ≤ ms ≤ 3 600 000; false = refused (409 / 400 by the caller).
   // A second call waits for the first; `done` runs on the loop after the last step.

@@ -157,13 +157,14 @@ void DriveUnit::write_plant_state() const {
   }
 }
 
+// Only this drive's next step is made full: the fleet's other drives stay quiet.
 void DriveUnit::sync() {
-  if (clock_) clock_->sync();
+  if (clock_) clock_->sync(&device_->steps());
 }
 
 void DriveUnit::wake() {
   if (clock_) {
-    clock_->wake();
+    clock_->wake(&device_->steps());
   } else if (device_) {
     device_->steps().touch();
   }

@@ -72,15 +72,19 @@ ClockLogic::Next ClockLogic::on_wake(Wall now) {
   return plan();
 }
 
-ClockLogic::Next ClockLogic::sync(Wall now) {
+ClockLogic::Next ClockLogic::sync(Wall now, Steppable* drive) {
   // Already behind, its catch-up wake-up posted: the client is served at the drive time reached so
   // far instead of waiting for a batch of steps of its own (under load every input would add one).
   if (mode_.kind != ClockMode::Kind::manual && behind_ == 0) catch_up(now);
-  return touch();
+  return touch(drive);
 }
 
-ClockLogic::Next ClockLogic::touch() {
-  target_.touch();
+ClockLogic::Next ClockLogic::touch(Steppable* drive) {
+  if (drive) {
+    target_.touch_drive(*drive);
+  } else {
+    target_.touch();
+  }
   return plan();
 }
 

@@ -54,10 +54,12 @@ class ClockLogic {
   Next on_wake(Wall now);
   // Before a client's input reaches the drive: drive time caught up to the wall clock (bounded as
   // on_wake; nothing runs while a catch-up is already behind — the posted wake-up goes on with it),
-  // and the next step marked as a full one. Returns the new plan.
-  Next sync(Wall now);
-  // The drive changed outside a step (or has output waiting): the next step is a full one.
-  Next touch();
+  // and the next step marked as a full one. Returns the new plan. `drive`: the one drive of a fleet
+  // the input is for (only its next step is made full); null: the whole target.
+  Next sync(Wall now, Steppable* drive = nullptr);
+  // The drive changed outside a step (or has output waiting): the next step is a full one. `drive`
+  // as for sync(): a client of one drive of 1000 does not make the other 999 step in full.
+  Next touch(Steppable* drive = nullptr);
   // What to do next without running anything.
   Next plan() const;
 

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <unordered_map>
 #include <vector>
 
 namespace mcemu::sim {
@@ -24,6 +25,9 @@ class Steppable {
   virtual std::uint64_t quiet_steps() const = 0;
   virtual void skip(std::uint64_t n) = 0;
   virtual void touch() = 0;
+  // touch() of one drive of this target (a Fleet's member; for a single drive, itself): only that
+  // drive's next step is full.
+  virtual void touch_drive(Steppable& drive) { drive.touch(); }
   // A hint that step() follows soon: start loading into the caches what a step reads, `level`
   // pointers away from this object (0: the objects it refers to, 1: what those refer to, ...). A
   // caller issues level k one step of another drive after level k - 1 (Fleet::step), so that each
@@ -43,21 +47,33 @@ Advanced advance(Steppable& s, std::uint64_t n, std::uint64_t max_full = k_forev
                  const std::function<bool()>& hold = {});
 
 // N drives on one clock (spec README --drives): a drive that is quiet while another needs a step
-// is skipped by one step instead of stepped. While it steps one drive it prefetches the next ones,
-// a level deeper for each drive nearer: 1000 drives no longer fit the caches, and a step chases
-// pointers (dictionary, core, parts) the hardware cannot guess (issue 26; bench/device_bench).
+// is skipped by one step instead of stepped.
+// - Each drive's quiet answer is kept as the fleet tick it is quiet through, and asked again only
+//   after the drive stepped or was touched (touch_drive): by the contract above nothing else
+//   changes it, and a client of one drive of 1000 then costs one answer, not 1000 (issue 26).
+// - While it steps one drive it prefetches the next ones, a level deeper for each drive nearer:
+//   1000 drives no longer fit the caches, and a step chases pointers (dictionary, core, parts)
+//   the hardware cannot guess (bench/device_bench).
 class Fleet final : public Steppable {
  public:
-  void add(Steppable& drive) { drives_.push_back(&drive); }
+  void add(Steppable& drive);
   void step() override;
   std::uint64_t quiet_steps() const override;
   void skip(std::uint64_t n) override;
   void touch() override;
+  void touch_drive(Steppable& drive) override;
 
   static constexpr int k_prefetch_levels = 3;
 
  private:
+  static constexpr std::uint64_t k_unknown = 0;  // ask the drive (it is quiet through tick 0 at most)
+  // The last fleet tick drive i is known to be quiet through (k_forever: every tick).
+  std::uint64_t quiet_through(std::size_t i) const;
+
   std::vector<Steppable*> drives_;
+  std::unordered_map<const Steppable*, std::size_t> index_;
+  mutable std::vector<std::uint64_t> quiet_through_;
+  std::uint64_t ticks_ = 0;  // steps advanced (full or skipped)
 };
 
 }  // namespace mcemu::sim

@@ -96,6 +96,33 @@ TEST(ClockLogic, FirstStepDueAtStartWhenAsked) {
   EXPECT_EQ(manual.t, 0u) << "the manual clock waits for an advance";
 }
 
+// A client's input for one drive of a fleet makes that drive's next step full, not every drive's.
+TEST(ClockLogic, SyncForOneDriveOfAFleetTouchesThatDriveOnly) {
+  FakeTarget a;
+  FakeTarget b;
+  sim::Fleet fleet;
+  fleet.add(a);
+  fleet.add(b);
+  sim::ClockLogic c(fleet, {});
+  c.start(ms(1000));
+  auto next = c.sync(ms(1003.2), &b);
+  EXPECT_EQ(a.t, 3u);
+  EXPECT_EQ(b.t, 3u);
+  EXPECT_FALSE(a.dirty);
+  EXPECT_TRUE(b.dirty);
+  ASSERT_EQ(next.kind, Kind::sleep_until);
+  EXPECT_EQ(next.at, ms(1004));
+  next = c.on_wake(ms(1004));
+  EXPECT_TRUE(a.full_at.empty());
+  EXPECT_EQ(b.full_at, (std::vector<std::uint64_t>{4}));
+  EXPECT_EQ(next.kind, Kind::wait) << "both quiet for good";
+  (void)c.touch(&a);
+  EXPECT_TRUE(a.dirty);
+  EXPECT_FALSE(b.dirty);
+  (void)c.sync(ms(1010));
+  EXPECT_TRUE(a.dirty && b.dirty) << "no drive named: every drive";
+}
+
 TEST(ClockLogic, BehindItRunsAtMost50FullStepsPerWakeUp) {
   FakeTarget f;
   f.busy = true;

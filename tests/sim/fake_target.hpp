@@ -18,6 +18,7 @@ struct FakeTarget final : Steppable {
   std::uint64_t fulls = 0;
   std::uint64_t skips = 0;
   std::vector<std::uint64_t> full_at;  // the step numbers that ran in full
+  mutable std::uint64_t asked = 0;     // quiet_steps() calls
 
   void step() override {
     ++t;
@@ -26,13 +27,17 @@ struct FakeTarget final : Steppable {
     dirty = false;
   }
   std::uint64_t quiet_steps() const override {
+    ++asked;
+    return quiet();
+  }
+  std::uint64_t quiet() const {
     if (busy || dirty) return 0;
     const auto it = needed.lower_bound(t + 1);
     if (it == needed.end()) return k_forever;
     return *it - t - 1;
   }
   void skip(std::uint64_t n) override {
-    EXPECT_LE(n, quiet_steps()) << "skip over a needed step at t = " << t;
+    EXPECT_LE(n, quiet()) << "skip over a needed step at t = " << t;
     t += n;
     ++skips;
   }

@@ -72,6 +72,41 @@ TEST(Fleet, QuietDrivesAreSkippedWhileAnotherSteps) {
   EXPECT_TRUE(a.dirty && b.dirty);
 }
 
+// A client of one drive of 1000 (issue 26): the fleet keeps each drive's quiet answer until the
+// drive steps or is touched, and touch_drive() makes only that drive's next step full.
+TEST(Fleet, AsksAQuietDriveAgainOnlyAfterItStepsOrIsTouched) {
+  FakeTarget moving;
+  FakeTarget idle;
+  moving.busy = true;
+  idle.needed = {40};
+  Fleet fleet;
+  fleet.add(moving);
+  fleet.add(idle);
+  EXPECT_EQ(advance(fleet, 30).full, 30u);
+  EXPECT_EQ(idle.asked, 1u) << "quiet through step 39: asked once";
+  EXPECT_EQ(idle.t, 30u);
+  EXPECT_EQ(advance(fleet, 20).full, 20u);
+  EXPECT_EQ(idle.full_at, (std::vector<std::uint64_t>{40}));  // the cached answer kept its deadline
+  EXPECT_EQ(idle.asked, 2u) << "asked again after its step at 40, then quiet for good";
+  EXPECT_EQ(idle.t, 50u);
+
+  moving.busy = false;
+  fleet.touch_drive(idle);
+  EXPECT_TRUE(idle.dirty);
+  EXPECT_FALSE(moving.dirty);
+  const Advanced r = advance(fleet, 10);
+  EXPECT_EQ(r.full, 1u) << "only the touched drive steps in full";
+  EXPECT_EQ(idle.full_at.back(), 51u);
+  EXPECT_EQ(moving.t, 60u);
+  EXPECT_EQ(idle.t, 60u);
+  // touch() of the whole fleet still touches every drive
+  fleet.touch();
+  EXPECT_TRUE(moving.dirty && idle.dirty);
+  EXPECT_EQ(advance(fleet, 1).full, 1u);
+  EXPECT_EQ(moving.full_at.back(), 61u);
+  EXPECT_EQ(idle.full_at.back(), 61u);
+}
+
 // The prefetch hints of Fleet::step: a drive far enough down the list gets every level in order,
 // each one while an earlier drive steps, all before its own step; the first drive gets none.
 TEST(Fleet, PrefetchesTheNextDrivesLevelByLevelBeforeTheirStep) {
