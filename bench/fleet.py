@@ -18,11 +18,15 @@ The lag column is how far the drive time of the last drive fell behind the wall 
 moving window (GET /api/v1/status timeMs before and after, less the wall time between; 0 or a few
 ms: real time held). mcemu also logs "simulation is N ms behind real time" beyond 50 ms, at most
 every 10 s (server/clock_driver.cpp), too rarely to measure a window by.
+The req column is the server CPU per RefGo `TP` round trip on one connection to the last drive of
+the idle fleet (REQUESTS requests, default 2000; µs of CPU per request from /proc/<pid>/task/*/schedstat): what a client of
+one drive pays for the fleet around it (issue 26).
 """
 import http.client
 import json
 import os
 import re
+import socket
 import statistics
 import subprocess
 import sys
@@ -35,12 +39,25 @@ WINDOW = float(os.environ.get("WINDOW", "10"))
 ROUNDS = int(os.environ.get("ROUNDS", "3"))
 ADVANCE_MS = int(os.environ.get("ADVANCE_MS", "60000"))
 MOVING_MAX = int(os.environ.get("MOVING_MAX", "100"))
+REQUESTS = int(os.environ.get("REQUESTS", "2000"))
 TCK = os.sysconf("SC_CLK_TCK")
 
 
 def ticks(pid):
     fields = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()
     return int(fields[11]) + int(fields[12])
+
+
+def cpu_ns(pid):
+    """CPU time of every thread of the process in ns (/proc/<pid>/task/*/schedstat: ticks are too
+    coarse for a few µs per request)."""
+    total = 0
+    for t in os.listdir(f"/proc/{pid}/task"):
+        try:
+            total += int(open(f"/proc/{pid}/task/{t}/schedstat").read().split()[0])
+        except (FileNotFoundError, ProcessLookupError):
+            pass
+    return total
 
 
 def status_kib(pid, key):
@@ -67,6 +84,7 @@ class Fleet:
                                      stdout=child_log, stderr=subprocess.STDOUT)
         child_log.close()
         self.http = {}
+        self.refgo = {}
         try:
             self._wait_ready(n, t0)
         except BaseException:
@@ -89,6 +107,8 @@ class Fleet:
         for _ in range(500):  # the log file may still be catching up with the ready line
             for m in re.finditer(r"(?:drive (\d+): )?listening: http tcp ([\d.]+):(\d+)", text):
                 self.http[int(m.group(1) or 1)] = (m.group(2), int(m.group(3)))
+            for m in re.finditer(r"(?:drive (\d+): )?listening: refgo tcp ([\d.]+):(\d+)", text):
+                self.refgo[int(m.group(1) or 1)] = (m.group(2), int(m.group(3)))
             if len(self.http) == n:
                 break
             time.sleep(0.01)
@@ -123,6 +143,21 @@ class Fleet:
         c.close()
         return body["timeMs"]
 
+    def request_cpu_us(self, k, count):
+        s = socket.create_connection(self.refgo[k])
+        a = cpu_ns(self.proc.pid)
+        for _ in range(count):
+            s.sendall(b"TP\r")
+            reply = b""
+            while not reply.endswith(b">"):  # the echo, the answer and the ">" prompt
+                chunk = s.recv(256)
+                if not chunk:
+                    raise RuntimeError("RefGo connection closed")
+                reply += chunk
+        used = cpu_ns(self.proc.pid) - a
+        s.close()
+        return used / count / 1000
+
     def cpu_percent(self, seconds):
         a = ticks(self.proc.pid)
         time.sleep(seconds)
@@ -143,15 +178,16 @@ def main():
     print(f"cpu: {os.cpu_count()} cores, load {open('/proc/loadavg').read().split()[0]}; window {WINDOW} s, "
           f"{ROUNDS} rounds, medians")
     print(f"{'drives':>6} {'start s':>8} {'idle %':>8} {'moving %':>9} {'RSS MiB':>8} {'KiB/drive':>9} "
-          f"{'HWM MiB':>8} {'lag ms':>7} {'manual x':>9}")
+          f"{'HWM MiB':>8} {'lag ms':>7} {'manual x':>9} {'req us':>7}")
     for n in SIZES:
-        rows = {"start": [], "idle": [], "moving": [], "lag": [], "rss": [], "hwm": [], "speedup": []}
+        rows = {"start": [], "idle": [], "moving": [], "lag": [], "rss": [], "hwm": [], "speedup": [], "req": []}
         for _ in range(ROUNDS):
             f = Fleet(n)
             try:
                 rows["start"].append(f.startup_s)
                 time.sleep(1)
                 rows["idle"].append(f.cpu_percent(WINDOW))
+                rows["req"].append(f.request_cpu_us(n, REQUESTS))
                 if n <= MOVING_MAX:
                     f.start_moving()
                     time.sleep(1)
@@ -176,7 +212,7 @@ def main():
         med = {k: statistics.median(v) if v else float("nan") for k, v in rows.items()}
         # RSS per drive: the process's RSS over the drives (the process itself, ~8 MiB, included)
         print(f"{n:>6} {med['start']:>8.2f} {med['idle']:>8.2f} {med['moving']:>9.1f} {med['rss']:>8.1f} "
-              f"{med['rss'] * 1024 / n:>9.0f} {med['hwm']:>8.1f} {med['lag']:>7.0f} {med['speedup']:>9.1f}", flush=True)
+              f"{med['rss'] * 1024 / n:>9.0f} {med['hwm']:>8.1f} {med['lag']:>7.0f} {med['speedup']:>9.1f} {med['req']:>7.0f}", flush=True)
 
 
 if __name__ == "__main__":
