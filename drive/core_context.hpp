@@ -19,6 +19,12 @@
 
 namespace mcemu::core {
 
+// The core's write of a value it reports (an actual value, an input word): set() only when it
+// differs, so an unchanged value costs one read.
+inline void put(od::ObjectDictionary& od, od::Handle h, std::int64_t v) {
+  if (od.number(h) != v) od.set(h, od::Value{v});
+}
+
 // An entry the core reads that a family's dictionary may not have (a FAULHABER drive has no
 // 3401h, 3510h, 351xh, 6007h, 6059h, 60F2h, 60FEh): the entry, or the preset's constant
 // (ModelPreset::core_constants, else 0). On a MovingCap dictionary every Param has its handle.

@@ -25,10 +25,6 @@ std::int64_t as_int(const od::Value& v) {
   return std::holds_alternative<std::int64_t>(v) ? std::get<std::int64_t>(v) : 0;
 }
 
-void put(od::ObjectDictionary& od, od::Handle h, std::int64_t v) {
-  if (od.number(h) != v) od.set(h, od::Value{v});
-}
-
 std::uint16_t pin_mask(const std::vector<int>& pins) {
   std::uint16_t mask = 0;
   for (const int n : pins) {

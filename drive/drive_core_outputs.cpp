@@ -10,10 +10,6 @@ namespace {
 
 constexpr std::uint32_t k_input_mask = 0x03FF0000;
 
-void put(od::ObjectDictionary& od, od::Handle h, std::int64_t v) {
-  if (od.number(h) != v) od.set(h, od::Value{v});
-}
-
 }  // namespace
 
 std::uint32_t DriveCore::compute_inputs() const {
