@@ -217,7 +217,7 @@ BENCHMARK(BM_Construct_MC349)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Construct_FH_MC5005)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MovingStep_MC349);
 BENCHMARK(BM_MovingStep_FH_MC5005);
-BENCHMARK(BM_MovingFleet_MC349)->Arg(1)->Arg(100)->Arg(1000);
+BENCHMARK(BM_MovingFleet_MC349)->Arg(1)->Arg(100)->Arg(300)->Arg(1000);
 BENCHMARK(BM_IdleMinute_MC349);
 BENCHMARK(BM_MovingHourHeap_MC349)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TraceRecord);

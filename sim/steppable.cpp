@@ -41,10 +41,12 @@ void Fleet::step() {
   const std::size_t n = drives_.size();
   for (std::size_t i = 0; i < n; ++i) {
     Steppable* d = drives_[i];
-    if (i + k_prefetch_levels + 1 < n) __builtin_prefetch(drives_[i + k_prefetch_levels + 1]);
-    for (int level = 0; level < k_prefetch_levels; ++level) {
-      const std::size_t k = i + static_cast<std::size_t>(k_prefetch_levels - level);
-      if (k < n) drives_[k]->prefetch(level);
+    if (n >= prefetch_from_) {
+      if (i + k_prefetch_levels + 1 < n) __builtin_prefetch(drives_[i + k_prefetch_levels + 1]);
+      for (int level = 0; level < k_prefetch_levels; ++level) {
+        const std::size_t k = i + static_cast<std::size_t>(k_prefetch_levels - level);
+        if (k < n) drives_[k]->prefetch(level);
+      }
     }
     if (quiet_through(i) > ticks_) {
       d->skip(1);

@@ -122,7 +122,7 @@ TEST(Fleet, PrefetchesTheNextDrivesLevelByLevelBeforeTheirStep) {
   };
   std::vector<Event> log;
   std::vector<Logged> drives(6);
-  Fleet fleet;
+  Fleet fleet(6);
   for (int k = 0; k < 6; ++k) {
     drives[k].log = &log;
     drives[k].id = k;
@@ -148,6 +148,13 @@ TEST(Fleet, PrefetchesTheNextDrivesLevelByLevelBeforeTheirStep) {
   EXPECT_EQ(std::count_if(log.begin(), log.end(), [](const Event& e) { return std::get<0>(e) == 'p'; }),
             3 + 3 + 3 + 2 + 1);
   EXPECT_EQ(std::count_if(log.begin(), log.end(), [](const Event& e) { return std::get<0>(e) == 's'; }), 6);
+
+  // a smaller fleet than asked for steps without hints
+  log.clear();
+  Fleet small(7);
+  for (auto& d : drives) small.add(d);
+  small.step();
+  EXPECT_EQ(std::count_if(log.begin(), log.end(), [](const Event& e) { return std::get<0>(e) == 'p'; }), 0);
 }
 
 }  // namespace
