@@ -51,9 +51,8 @@ ObjectDictionary::ObjectDictionary(std::shared_ptr<const Layout> layout)
     : layout_(std::move(layout)),
       numbers_(layout_->factory_numbers()),
       hooks_(layout_->size()),
-      plain_(layout_->size()),
+      plain_(layout_->unchecked_words()),
       watched_(layout_->size()) {
-  for (Handle h = 0; h < layout_->size(); ++h) plain_.set(h, layout_->unchecked(h));
   strings_.reserve(layout_->string_handles().size());
   for (const Handle h : layout_->string_handles()) strings_.push_back(std::get<std::string>(layout_->info(h).factory));
   install_error_history_rule();

@@ -201,6 +201,7 @@ class ObjectDictionary {
   class HandleBits {
    public:
     explicit HandleBits(std::size_t n) : words_((n + 63) / 64) {}
+    explicit HandleBits(std::vector<std::uint64_t> words) : words_(std::move(words)) {}
     bool operator[](Handle h) const { return (words_[h / 64] >> (h % 64)) & 1u; }
     void set(Handle h, bool on) {
       const std::uint64_t bit = std::uint64_t{1} << (h % 64);

@@ -69,7 +69,9 @@ class Layout {
 
   DataType type(Handle h) const { return types_[h]; }
   // A number without limits or validator: a write of the right type needs no check beyond its range.
-  bool unchecked(Handle h) const { return unchecked_[h]; }
+  bool unchecked(Handle h) const { return (unchecked_[h / 64] >> (h % 64)) & 1u; }
+  // The same as bits, handle h at bit h % 64 of word h / 64: a drive copies them as its plain flags.
+  const std::vector<std::uint64_t>& unchecked_words() const { return unchecked_; }
   // A master can write the entry (rw or wo): a setting, not a value the drive reports.
   bool setting(Handle h) const { return setting_[h]; }
   std::int64_t factory_number(Handle h) const { return factory_numbers_[h]; }
@@ -94,7 +96,7 @@ class Layout {
   std::vector<std::uint32_t> keys_;
   std::vector<std::uint16_t> slots_;
   std::vector<DataType> types_;
-  std::vector<bool> unchecked_;  // bits: a drive copies them (80 bytes) as its plain flags
+  std::vector<std::uint64_t> unchecked_;  // unchecked_words()
   std::vector<bool> setting_;
   std::vector<std::int64_t> factory_numbers_;  // 0 for strings
   std::vector<std::uint16_t> string_slots_;
