@@ -51,7 +51,7 @@ ObjectDictionary::ObjectDictionary(std::shared_ptr<const Layout> layout)
     : layout_(std::move(layout)),
       numbers_(layout_->factory_numbers()),
       hooks_(layout_->size()),
-      plain_(layout_->unchecked_words()),
+      plain_(layout_->unchecked_flags()),
       watched_(layout_->size()) {
   strings_.reserve(layout_->string_handles().size());
   for (const Handle h : layout_->string_handles()) strings_.push_back(std::get<std::string>(layout_->info(h).factory));

@@ -196,25 +196,8 @@ class ObjectDictionary {
   std::vector<std::int64_t> numbers_;
   std::vector<std::string> strings_;
   std::vector<HookSlots> hooks_;
-  // Flags by handle, as bits in words whose address prefetch() can give (a step's writes test ~100
-  // of them: two cache lines, not ~100).
-  class HandleBits {
-   public:
-    explicit HandleBits(std::size_t n) : words_((n + 63) / 64) {}
-    explicit HandleBits(std::vector<std::uint64_t> words) : words_(std::move(words)) {}
-    bool operator[](Handle h) const { return (words_[h / 64] >> (h % 64)) & 1u; }
-    void set(Handle h, bool on) {
-      const std::uint64_t bit = std::uint64_t{1} << (h % 64);
-      words_[h / 64] = on ? words_[h / 64] | bit : words_[h / 64] & ~bit;
-    }
-    void set_all() { words_.assign(words_.size(), ~std::uint64_t{0}); }
-    void prefetch() const {
-      for (std::size_t i = 0; i < words_.size(); i += 8) __builtin_prefetch(&words_[i]);
-    }
-
-   private:
-    std::vector<std::uint64_t> words_;
-  };
+  // is_plain() by handle, as bits (a step's writes test ~100 of them: two cache lines, not ~100;
+  // prefetch() can name their address).
   HandleBits plain_;  // is_plain()
   // Deques: a hook may register another while it runs.
   std::deque<WriteHook> write_hooks_;

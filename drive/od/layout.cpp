@@ -39,7 +39,7 @@ Layout::Layout(std::vector<EntryInfo> entries) : entries_(std::move(entries)) {
   if (n >= 0xFFFF) throw std::logic_error("too many OD entries for the slot table");
   keys_.resize(n);
   types_.resize(n);
-  unchecked_.resize((n + 63) / 64);
+  unchecked_ = HandleBits(n);
   setting_.resize(n);
   factory_numbers_.resize(n);
   string_slots_.assign(n, k_no_string);
@@ -59,7 +59,7 @@ Layout::Layout(std::vector<EntryInfo> entries) : entries_(std::move(entries)) {
       string_handles_.push_back(i);
     } else {
       factory_numbers_[i] = std::get<std::int64_t>(e.factory);
-      if (!e.limits && !e.validator) unchecked_[i / 64] |= std::uint64_t{1} << (i % 64);
+      unchecked_.set(i, !e.limits && !e.validator);
     }
     if (i > 0 && entries_[i - 1].index == e.index) {
       if (entries_[i - 1].sub == e.sub) throw std::logic_error("duplicate OD entry");

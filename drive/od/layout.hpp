@@ -54,6 +54,25 @@ struct EntryInfo {
 
 using Handle = std::uint32_t;
 
+// Flags by handle, as bits in 64-bit words (handle h: bit h % 64 of word h / 64): a dictionary
+// copies the layout's in one go and can prefetch them.
+class HandleBits {
+ public:
+  explicit HandleBits(std::size_t n = 0) : words_((n + 63) / 64) {}
+  bool operator[](Handle h) const { return (words_[h / 64] >> (h % 64)) & 1u; }
+  void set(Handle h, bool on) {
+    const std::uint64_t bit = std::uint64_t{1} << (h % 64);
+    words_[h / 64] = on ? words_[h / 64] | bit : words_[h / 64] & ~bit;
+  }
+  void set_all() { words_.assign(words_.size(), ~std::uint64_t{0}); }
+  void prefetch() const {
+    for (std::size_t i = 0; i < words_.size(); i += 8) __builtin_prefetch(&words_[i]);
+  }
+
+ private:
+  std::vector<std::uint64_t> words_;
+};
+
 class Layout {
  public:
   // Sorts the entries by (index, sub) and indexes them; throws std::logic_error for a duplicate.
@@ -69,9 +88,8 @@ class Layout {
 
   DataType type(Handle h) const { return types_[h]; }
   // A number without limits or validator: a write of the right type needs no check beyond its range.
-  bool unchecked(Handle h) const { return (unchecked_[h / 64] >> (h % 64)) & 1u; }
-  // The same as bits, handle h at bit h % 64 of word h / 64: a drive copies them as its plain flags.
-  const std::vector<std::uint64_t>& unchecked_words() const { return unchecked_; }
+  bool unchecked(Handle h) const { return unchecked_[h]; }
+  const HandleBits& unchecked_flags() const { return unchecked_; }  // a drive copies them as its plain flags
   // A master can write the entry (rw or wo): a setting, not a value the drive reports.
   bool setting(Handle h) const { return setting_[h]; }
   std::int64_t factory_number(Handle h) const { return factory_numbers_[h]; }
@@ -96,7 +114,7 @@ class Layout {
   std::vector<std::uint32_t> keys_;
   std::vector<std::uint16_t> slots_;
   std::vector<DataType> types_;
-  std::vector<std::uint64_t> unchecked_;  // unchecked_words()
+  HandleBits unchecked_;
   std::vector<bool> setting_;
   std::vector<std::int64_t> factory_numbers_;  // 0 for strings
   std::vector<std::uint16_t> string_slots_;
