@@ -461,6 +461,7 @@ void ScriptEngine::pump(const std::shared_ptr<Run>& run) {
       });
       return done();
     }
+    if (handled == 0 && callbacks_.settle) callbacks_.settle();
     handle(run, *m, true);
     ++handled;
   }
@@ -625,6 +626,7 @@ void ScriptEngine::on_exit(const std::shared_ptr<Run>& run, int status) {
   if (run != run_) return;  // ended by mcemu or after reporting its end
   // It died on its own: what it wrote before still counts, in order (a normal end may be there).
   run->proc->read_available();
+  if (callbacks_.settle) callbacks_.settle();
   bool error = false;
   while (auto m = run->proc->next(error)) {
     handle(run, *m, false);

@@ -78,6 +78,9 @@ struct EngineCallbacks {
   // drive, the next deadline or the lock-step readiness may have changed (a call, a sleep begun
   // or cancelled, the run ended) — the clock re-plans (ClockDriver::wake).
   std::function<void()> changed;
+  // Before the first message of such a batch reads or changes the drive: the drive's own time
+  // brought up to the clock's (ClockDriver::settle — a fleet leaves its quiet drives behind).
+  std::function<void()> settle;
 };
 
 enum class UploadResult : std::uint8_t { ok, empty, too_large };

@@ -11,7 +11,10 @@
 //   sync()  before a client's input (RefGo line, SLCAN frame, HTTP request, UDP datagram, a
 //           persistence completion) touches or reads the drive — drive time is then current;
 //   wake()  after anything outside a step changed the drive or queued output for it (a CANopen
-//           node's wake hook, a script's OD write) — cheap: marks the next step full, re-plans.
+//           node's wake hook, a script's OD write) — cheap: marks the next step full, re-plans;
+//   settle() before something outside a step reads or changes the drive without a sync (a
+//           script's requests, a wall-clock timer's trace line): a fleet steps its quiet drives
+//           lazily (sim::Fleet), and this brings the drive's own time up to the clock's.
 // Both name the drive (DriveUnit passes its own): in a fleet only that drive's next step is full,
 // and the fleet asks only that drive again whether it is quiet (sim::Fleet). Without a drive:
 // every drive (shutdown).
@@ -47,6 +50,7 @@ class ClockDriver {
   // null: every drive.
   void sync(sim::Steppable* drive = nullptr);
   void wake(sim::Steppable* drive = nullptr);
+  void settle(sim::Steppable* drive = nullptr) { logic_.settle(drive); }
 
   // web.md §8.10: manual clock only, 1 ≤ ms ≤ 3 600 000; false = refused (409 / 400 by the caller).
   // A second call waits for the first; `done` runs on the loop after the last step.

@@ -123,6 +123,7 @@ void DriveUnit::build_script() {
     cb.calls = [this](std::uint64_t n) { device_->lint().script_loop(lint::ScriptKind::code, n); };
   }
   cb.changed = [this] { wake(); };
+  cb.settle = [this] { settle(); };
   const auto& rs = device_->settings();
   scripting::EngineSettings es;
   scripting_section(settings_.config, es);

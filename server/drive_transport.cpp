@@ -85,6 +85,7 @@ void DriveUnit::wire_canopen_faults() {
     });
   };
   bus.trace = [this](const std::string& text) {
+    settle();  // a wall-clock timer's line is stamped with the drive's current time
     device_->trace().record(trace::Channel::slcan, trace::Dir::event, text);
   };
   canopen->set_faults(std::move(bus));

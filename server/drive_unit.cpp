@@ -170,6 +170,10 @@ void DriveUnit::wake() {
   }
 }
 
+void DriveUnit::settle() {
+  if (clock_) clock_->settle(&device_->steps());
+}
+
 DriveUnit::Ports DriveUnit::ports() const {
   Ports p;
   if (refgo_) p.refgo = refgo_->port();

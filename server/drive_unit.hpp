@@ -80,7 +80,8 @@ class DriveUnit {
   // What the clock advances (quiet stretches skipped exactly, docs/clock.md).
   sim::Steppable& steps() { return device_->steps(); }
   // The process's clock (App): sync() before a client's input reads or changes the drive, wake()
-  // after something outside a step changed it; mode and advance for the JSON API.
+  // after something outside a step changed it, settle() before a read or change that is no
+  // client's input (server/clock_driver.hpp); mode and advance for the JSON API.
   // Also sets how the script engine interpolates ticks_us (real clock only, scripting.md §8.2).
   void attach_clock(ClockDriver& clock);
   // --clock manual lock-step (scripting.md §8.2): true while the script woken by a step has not
@@ -123,6 +124,7 @@ class DriveUnit {
   void run_transport_actions();
   void sync();
   void wake();
+  void settle();
   void note(const std::string& text);
   void build_web(const boost::asio::ip::address& address);
   void wire_websocket();

@@ -88,6 +88,14 @@ ClockLogic::Next ClockLogic::touch(Steppable* drive) {
   return plan();
 }
 
+void ClockLogic::settle(Steppable* drive) {
+  if (drive) {
+    target_.settle_drive(*drive);
+  } else {
+    target_.settle();
+  }
+}
+
 bool ClockLogic::request(std::uint64_t n, std::function<void()> done) {
   if (mode_.kind != ClockMode::Kind::manual || n < 1 || n > k_max_advance_ms) return false;
   queue_.push_back(Request{n, std::move(done)});
@@ -102,6 +110,9 @@ ClockLogic::Next ClockLogic::run_manual(Wall now) {
     ticks_ += a.steps;
     full_ += a.full;
     r.remaining -= a.steps;
+    // Between slices the drives stand still and may be read without a sync (a script polling its
+    // drive time, the advance's own answer): none is left behind.
+    target_.settle();
     if (r.remaining == 0) {
       auto done = std::move(r.done);
       queue_.pop_front();

@@ -60,6 +60,10 @@ class ClockLogic {
   // The drive changed outside a step (or has output waiting): the next step is a full one. `drive`
   // as for sync(): a client of one drive of 1000 does not make the other 999 step in full.
   Next touch(Steppable* drive = nullptr);
+  // Before something outside a step reads or changes a drive without a sync (a script's request):
+  // that drive's own time brought up to the clock's — a fleet leaves its quiet drives behind
+  // (sim::Fleet). Runs no due step and marks nothing; null: every drive.
+  void settle(Steppable* drive = nullptr);
   // What to do next without running anything.
   Next plan() const;
 

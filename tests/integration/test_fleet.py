@@ -76,6 +76,35 @@ class DrivesFlag(unittest.TestCase):
                 self.assertEqual(m.read_object_of(k, 0x6064, 0), 0)
                 self.assertEqual(m.read_object_of(k, 0x6041, 0) & 0x6F, 0x40)  # still switch on disabled
 
+    def test_quiet_drives_keep_the_fleet_time_while_another_moves(self):
+        """A fleet does not visit its quiet drives while another one steps (issue 26, sim::Fleet):
+        they are brought up to date when a client reads them, and after every manual advance."""
+        def time_of(m, k):
+            return json.loads(m.http("GET", "/api/v1/clock", drive=k)[1])["timeMs"]
+
+        def back_and_forth(m, k):
+            address, port = m.drives[k]["refgo"]
+            for line in ("PWC", "SP 5000", "RR 20000"):
+                refgo(address, port, line)
+
+        with Mcemu("--drives", "3", "--clock", "manual") as m:
+            wait_for(lambda: len(m.drives) == 3, what="three drives")
+            back_and_forth(m, 2)
+            status, body = m.http("POST", "/api/v1/clock/advance", {"ms": 5000}, drive=2)
+            self.assertEqual(status, 200)
+            t = json.loads(body)["timeMs"]
+            self.assertNotEqual(m.read_object_of(2, 0x6064, 0), 0, "drive 2 moved")
+            status, body = m.http("POST", "/api/v1/clock/advance", {"ms": 3000}, drive=1)
+            self.assertEqual(json.loads(body)["timeMs"], t + 3000, "the quiet drive's own answer")
+            self.assertEqual([time_of(m, k) for k in (1, 2, 3)], [t + 3000] * 3)
+        with Mcemu("--drives", "3") as m:
+            wait_for(lambda: len(m.drives) == 3, what="three drives")
+            back_and_forth(m, 3)
+            time.sleep(0.5)
+            t1, t3, t2 = time_of(m, 1), time_of(m, 3), time_of(m, 2)
+            self.assertGreater(t1, 400)
+            self.assertTrue(t1 <= t3 <= t2 < t1 + 1000, (t1, t3, t2))
+
     def test_store_and_restart_per_drive(self):
         with tempfile.TemporaryDirectory(prefix="mcemu-fleet-") as tmp:
             state = os.path.join(tmp, "state")

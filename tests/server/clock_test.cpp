@@ -106,7 +106,7 @@ TEST(ClockLogic, SyncForOneDriveOfAFleetTouchesThatDriveOnly) {
   sim::ClockLogic c(fleet, {});
   c.start(ms(1000));
   auto next = c.sync(ms(1003.2), &b);
-  EXPECT_EQ(a.t, 3u);
+  EXPECT_EQ(a.t, 3u);  // a quiet fleet skips every drive
   EXPECT_EQ(b.t, 3u);
   EXPECT_FALSE(a.dirty);
   EXPECT_TRUE(b.dirty);
@@ -338,6 +338,47 @@ TEST(ClockLogic, ManualRunsOnlyRequestsInSlicesOf50) {
   EXPECT_EQ(done1, 1);
   EXPECT_EQ(done2, 1);
   EXPECT_EQ(next.kind, Kind::wait);
+}
+
+// A fleet leaves its quiet drives behind while another steps (sim::Fleet): the manual clock settles
+// them after every slice (a script polling its drive time, the advance's answer read them without
+// a sync), the real clock only where asked — settle() and sync() of that drive.
+TEST(ClockLogic, NoDriveIsLeftBehindBetweenManualSlicesOrWhenSettled) {
+  FakeTarget moving;
+  FakeTarget idle;
+  moving.busy = true;
+  sim::Fleet fleet;
+  fleet.add(moving);
+  fleet.add(idle);
+  sim::ClockLogic manual(fleet, sim::parse_clock_mode("manual"));
+  manual.start(ms(0));
+  std::vector<std::uint64_t> idle_after;
+  ASSERT_TRUE(manual.request(120, [&] { EXPECT_EQ(idle.t, 120u) << "the answer reads the drive"; }));
+  for (auto next = manual.plan(); next.kind == Kind::now;) {
+    next = manual.on_wake(ms(0));
+    idle_after.push_back(idle.t);
+  }
+  EXPECT_EQ(idle_after, (std::vector<std::uint64_t>{50, 100, 120}));
+  EXPECT_EQ(idle.skips, 3u) << "one skip per slice, not one per step";
+
+  FakeTarget moving2;
+  FakeTarget idle2;
+  moving2.busy = true;
+  sim::Fleet fleet2;
+  fleet2.add(moving2);
+  fleet2.add(idle2);
+  sim::ClockLogic real(fleet2, {});
+  real.start(ms(0));
+  (void)real.on_wake(ms(40));
+  EXPECT_EQ(moving2.t, 40u);
+  EXPECT_EQ(idle2.t, 0u);
+  real.settle(&idle2);
+  EXPECT_EQ(idle2.t, 40u);
+  EXPECT_FALSE(idle2.dirty) << "settling marks nothing";
+  (void)real.on_wake(ms(45));
+  (void)real.sync(ms(45), &idle2);
+  EXPECT_EQ(idle2.t, 45u);
+  EXPECT_TRUE(idle2.dirty);
 }
 
 TEST(ClockLogic, ManualRefusals) {

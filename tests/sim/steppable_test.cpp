@@ -84,11 +84,9 @@ TEST(Fleet, AsksAQuietDriveAgainOnlyAfterItStepsOrIsTouched) {
   fleet.add(idle);
   EXPECT_EQ(advance(fleet, 30).full, 30u);
   EXPECT_EQ(idle.asked, 1u) << "quiet through step 39: asked once";
-  EXPECT_EQ(idle.t, 30u);
   EXPECT_EQ(advance(fleet, 20).full, 20u);
   EXPECT_EQ(idle.full_at, (std::vector<std::uint64_t>{40}));  // the cached answer kept its deadline
   EXPECT_EQ(idle.asked, 2u) << "asked again after its step at 40, then quiet for good";
-  EXPECT_EQ(idle.t, 50u);
 
   moving.busy = false;
   fleet.touch_drive(idle);
@@ -105,6 +103,67 @@ TEST(Fleet, AsksAQuietDriveAgainOnlyAfterItStepsOrIsTouched) {
   EXPECT_EQ(advance(fleet, 1).full, 1u);
   EXPECT_EQ(moving.full_at.back(), 61u);
   EXPECT_EQ(idle.full_at.back(), 61u);
+}
+
+// One moving drive of 1000 costs one step (issue 26): a quiet drive is not visited while another
+// steps; it is left behind and settled in one skip when it next steps, is settled or touched from
+// outside, or the whole fleet skips.
+TEST(Fleet, QuietDrivesAreLeftBehindAndSettledInOneSkip) {
+  FakeTarget moving;
+  FakeTarget idle;
+  moving.busy = true;
+  idle.needed = {300};
+  Fleet fleet;
+  fleet.add(moving);
+  fleet.add(idle);
+  EXPECT_EQ(advance(fleet, 100).full, 100u);
+  EXPECT_EQ(idle.t, 0u) << "left behind, never visited";
+  EXPECT_EQ(idle.skips, 0u);
+  fleet.settle_drive(idle);
+  EXPECT_EQ(idle.t, 100u);
+  EXPECT_EQ(idle.skips, 1u);
+  fleet.settle_drive(idle);
+  EXPECT_EQ(idle.skips, 1u) << "nothing owed: no call";
+  EXPECT_EQ(advance(fleet, 50).full, 50u);
+  EXPECT_EQ(idle.t, 100u);
+  fleet.settle();
+  EXPECT_EQ(idle.t, 150u);
+  EXPECT_EQ(moving.t, 150u);
+  EXPECT_EQ(idle.skips, 2u);
+  // its own step: the owed steps skipped first, then the step, in the step it was due
+  EXPECT_EQ(advance(fleet, 200).full, 200u);
+  EXPECT_EQ(idle.full_at, (std::vector<std::uint64_t>{300}));
+  EXPECT_EQ(idle.skips, 3u);
+  EXPECT_EQ(idle.t, 300u) << "fleet at 350";
+  // touch_drive settles before it marks the drive
+  EXPECT_EQ(advance(fleet, 20).full, 20u);
+  fleet.touch_drive(idle);
+  EXPECT_EQ(idle.t, 370u);
+  EXPECT_TRUE(idle.dirty);
+  // the whole fleet quiet: one skip settles what each drive owes and the stretch together
+  moving.busy = false;
+  EXPECT_EQ(advance(fleet, 30).full, 1u) << "the touched drive's step";
+  EXPECT_EQ(idle.full_at.back(), 371u);
+  EXPECT_EQ(moving.t, 400u);
+  EXPECT_EQ(idle.t, 400u);
+  EXPECT_EQ(idle.skips, 5u) << "300→370 by the touch, then the fleet's last skip";
+}
+
+// A caller that changed a left-behind drive without settling it first (a contract breach) cannot
+// make the fleet skip over a step the change needs: the drive is asked and steps in full.
+TEST(Fleet, ADriveChangedBeforeItWasSettledStepsWhatItCannotSkip) {
+  FakeTarget moving;
+  FakeTarget idle;
+  moving.busy = true;
+  Fleet fleet;
+  fleet.add(moving);
+  fleet.add(idle);
+  advance(fleet, 10);
+  EXPECT_EQ(idle.t, 0u);
+  idle.dirty = true;  // changed from outside, not settled
+  fleet.touch_drive(idle);
+  EXPECT_EQ(idle.full_at, (std::vector<std::uint64_t>{1})) << "its first owed step ran in full";
+  EXPECT_EQ(idle.t, 10u);
 }
 
 // The prefetch hints of Fleet::step: a drive far enough down the list gets every level in order,
