@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <set>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "tests/sim/fake_target.hpp"
@@ -72,16 +74,24 @@ TEST(Fleet, QuietDrivesAreSkippedWhileAnotherSteps) {
   EXPECT_TRUE(a.dirty && b.dirty);
 }
 
+// A fleet of a drive that needs every step and one that needs only the steps in `needed`.
+struct MovingAndIdle {
+  FakeTarget moving;
+  FakeTarget idle;
+  Fleet fleet;
+  explicit MovingAndIdle(std::set<std::uint64_t> needed = {}) {
+    moving.busy = true;
+    idle.needed = std::move(needed);
+    fleet.add(moving);
+    fleet.add(idle);
+  }
+};
+
 // A client of one drive of 1000 (issue 26): the fleet keeps each drive's quiet answer until the
 // drive steps or is touched, and touch_drive() makes only that drive's next step full.
 TEST(Fleet, AsksAQuietDriveAgainOnlyAfterItStepsOrIsTouched) {
-  FakeTarget moving;
-  FakeTarget idle;
-  moving.busy = true;
-  idle.needed = {40};
-  Fleet fleet;
-  fleet.add(moving);
-  fleet.add(idle);
+  MovingAndIdle f({40});
+  auto& [moving, idle, fleet] = f;
   EXPECT_EQ(advance(fleet, 30).full, 30u);
   EXPECT_EQ(idle.asked, 1u) << "quiet through step 39: asked once";
   EXPECT_EQ(advance(fleet, 20).full, 20u);
@@ -109,13 +119,8 @@ TEST(Fleet, AsksAQuietDriveAgainOnlyAfterItStepsOrIsTouched) {
 // steps; it is left behind and settled in one skip when it next steps, is settled or touched from
 // outside, or the whole fleet skips.
 TEST(Fleet, QuietDrivesAreLeftBehindAndSettledInOneSkip) {
-  FakeTarget moving;
-  FakeTarget idle;
-  moving.busy = true;
-  idle.needed = {300};
-  Fleet fleet;
-  fleet.add(moving);
-  fleet.add(idle);
+  MovingAndIdle f({300});
+  auto& [moving, idle, fleet] = f;
   EXPECT_EQ(advance(fleet, 100).full, 100u);
   EXPECT_EQ(idle.t, 0u) << "left behind, never visited";
   EXPECT_EQ(idle.skips, 0u);
@@ -152,12 +157,8 @@ TEST(Fleet, QuietDrivesAreLeftBehindAndSettledInOneSkip) {
 // A caller that changed a left-behind drive without settling it first (a contract breach) cannot
 // make the fleet skip over a step the change needs: the drive is asked and steps in full.
 TEST(Fleet, ADriveChangedBeforeItWasSettledStepsWhatItCannotSkip) {
-  FakeTarget moving;
-  FakeTarget idle;
-  moving.busy = true;
-  Fleet fleet;
-  fleet.add(moving);
-  fleet.add(idle);
+  MovingAndIdle f;
+  auto& [moving, idle, fleet] = f;
   advance(fleet, 10);
   EXPECT_EQ(idle.t, 0u);
   idle.dirty = true;  // changed from outside, not settled
