@@ -18,6 +18,8 @@ The lag column is how far the drive time of the last drive fell behind the wall 
 moving window (GET /api/v1/status timeMs before and after, less the wall time between; 0 or a few
 ms: real time held). mcemu also logs "simulation is N ms behind real time" beyond 50 ms, at most
 every 10 s (server/clock_driver.cpp), too rarely to measure a window by.
+The one column is the CPU % of the real-clock fleet while only drive 1 moves (measured at every
+size): what the quiet drives of a stepping fleet cost (issue 26: ~0; one drive alone is the floor).
 The req column is the server CPU per RefGo `TP` round trip on one connection to the last drive of
 the idle fleet (REQUESTS requests, default 2000; µs of CPU per request from /proc/<pid>/task/*/schedstat): what a client of
 one drive pays for the fleet around it (issue 26).
@@ -130,8 +132,8 @@ class Fleet:
             raise RuntimeError(f"{path}: {r.status} {data!r}")
         return json.loads(data)
 
-    def start_moving(self):
-        for k in self.http:
+    def start_moving(self, drives=None):
+        for k in self.http if drives is None else drives:
             for line in ("PWC", "SP 5000", "RR 20000"):
                 self.post(k, "/api/v1/refgo", {"line": line})
 
@@ -178,9 +180,9 @@ def main():
     print(f"cpu: {os.cpu_count()} cores, load {open('/proc/loadavg').read().split()[0]}; window {WINDOW} s, "
           f"{ROUNDS} rounds, medians")
     print(f"{'drives':>6} {'start s':>8} {'idle %':>8} {'moving %':>9} {'RSS MiB':>8} {'KiB/drive':>9} "
-          f"{'HWM MiB':>8} {'lag ms':>7} {'manual x':>9} {'req us':>7}")
+          f"{'HWM MiB':>8} {'lag ms':>7} {'manual x':>9} {'req us':>7} {'one %':>6}")
     for n in SIZES:
-        rows = {"start": [], "idle": [], "moving": [], "lag": [], "rss": [], "hwm": [], "speedup": [], "req": []}
+        rows = {"start": [], "idle": [], "moving": [], "lag": [], "rss": [], "hwm": [], "speedup": [], "req": [], "one": []}
         for _ in range(ROUNDS):
             f = Fleet(n)
             try:
@@ -188,8 +190,11 @@ def main():
                 time.sleep(1)
                 rows["idle"].append(f.cpu_percent(WINDOW))
                 rows["req"].append(f.request_cpu_us(n, REQUESTS))
+                f.start_moving([1])
+                time.sleep(1)
+                rows["one"].append(f.cpu_percent(WINDOW))
                 if n <= MOVING_MAX:
-                    f.start_moving()
+                    f.start_moving([k for k in f.http if k != 1])
                     time.sleep(1)
                     d0, w0 = f.drive_time_ms(n), time.monotonic()
                     rows["moving"].append(f.cpu_percent(WINDOW))
@@ -212,7 +217,7 @@ def main():
         med = {k: statistics.median(v) if v else float("nan") for k, v in rows.items()}
         # RSS per drive: the process's RSS over the drives (the process itself, ~8 MiB, included)
         print(f"{n:>6} {med['start']:>8.2f} {med['idle']:>8.2f} {med['moving']:>9.1f} {med['rss']:>8.1f} "
-              f"{med['rss'] * 1024 / n:>9.0f} {med['hwm']:>8.1f} {med['lag']:>7.0f} {med['speedup']:>9.1f} {med['req']:>7.0f}", flush=True)
+              f"{med['rss'] * 1024 / n:>9.0f} {med['hwm']:>8.1f} {med['lag']:>7.0f} {med['speedup']:>9.1f} {med['req']:>7.0f} {med['one']:>6.1f}", flush=True)
 
 
 if __name__ == "__main__":
