@@ -360,6 +360,7 @@ void ScriptEngine::launch() {
   run->source = source_.bytes();
   run->compile_due_ms = now_ms() + k_compile_delay_ms;
   run_ = run;
+  if (callbacks_.run_changed) callbacks_.run_changed(true);
   line_ = 0;
   proc->page().publish_time(now_ms(), mono_ns(), settings_.interpolate_us);
   const auto alive = alive_.watch();
@@ -377,6 +378,7 @@ void ScriptEngine::terminate(bool forward_output) {
   auto run = std::move(run_);
   run_.reset();
   if (!run) return;
+  if (callbacks_.run_changed) callbacks_.run_changed(false);
   if (run->proc->page().line_seq() != 0) line_ = run->proc->page().line();
   run->line_timer.cancel();
   run->freeze_timer.cancel();

@@ -81,6 +81,10 @@ struct EngineCallbacks {
   // Before the first message of such a batch reads or changes the drive: the drive's own time
   // brought up to the clock's (ClockDriver::settle — a fleet leaves its quiet drives behind).
   std::function<void()> settle;
+  // A run began (true: its process was started) or ended (false: it is gone, for whatever reason):
+  // only a drive whose engine has a run can hold the manual clock (ready_for_step), so the server
+  // counts them instead of asking every drive of a fleet after every step.
+  std::function<void(bool running)> run_changed;
 };
 
 enum class UploadResult : std::uint8_t { ok, empty, too_large };

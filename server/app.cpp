@@ -30,10 +30,12 @@ void App::start() {
   for (auto& u : units_) u->start();
   for (auto& u : units_) fleet_.add(u->steps());
   clock_ = std::make_unique<ClockDriver>(io_, fleet_, mode_);
-  for (auto& u : units_) u->attach_clock(*clock_);
+  for (auto& u : units_) u->attach_clock(*clock_, &script_runs_);
   // --clock manual: a step waits for every script it woke (scripting.md §8.2); each unit registers
-  // its own resume, so all of them are asked
+  // its own resume, so all of them are asked — when any has a script run at all (asked after every
+  // full step: a fleet of 1000 drives without scripts should not visit 1000 units for it)
   clock_->set_hold([this] {
+    if (script_runs_ == 0) return false;
     bool held = false;
     for (auto& u : units_) held = u->script_holds_clock() || held;
     return held;

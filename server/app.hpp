@@ -32,6 +32,9 @@ class App {
 
  private:
   boost::asio::io_context& io_;
+  // Units whose script engine has a run (DriveUnit::attach_clock): only they can hold the manual
+  // clock. Declared before units_, which update it until they are gone.
+  std::size_t script_runs_ = 0;
   std::vector<std::unique_ptr<DriveUnit>> units_;
   sim::Fleet fleet_;
   sim::ClockMode mode_;

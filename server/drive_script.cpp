@@ -124,6 +124,11 @@ void DriveUnit::build_script() {
   }
   cb.changed = [this] { wake(); };
   cb.settle = [this] { settle(); };
+  cb.run_changed = [this](bool running) {
+    if (running == script_run_) return;
+    script_run_ = running;
+    if (script_runs_) running ? ++*script_runs_ : --*script_runs_;
+  };
   const auto& rs = device_->settings();
   scripting::EngineSettings es;
   scripting_section(settings_.config, es);
@@ -164,8 +169,10 @@ std::unique_ptr<sim::Part> DriveUnit::script_part() {
       });
 }
 
-void DriveUnit::attach_clock(ClockDriver& clock) {
+void DriveUnit::attach_clock(ClockDriver& clock, std::size_t* script_runs) {
   clock_ = &clock;
+  script_runs_ = script_runs;
+  if (script_runs_ && script_run_) ++*script_runs_;  // an autostarted script
   clock_manual_ = clock.mode().kind == sim::ClockMode::Kind::manual;
   // ticks_us between two steps from the host clock only where drive time is wall time
   if (engine_) engine_->set_interpolate_us(clock.mode().kind == sim::ClockMode::Kind::real);

@@ -83,7 +83,9 @@ class DriveUnit {
   // after something outside a step changed it, settle() before a read or change that is no
   // client's input (server/clock_driver.hpp); mode and advance for the JSON API.
   // Also sets how the script engine interpolates ticks_us (real clock only, scripting.md §8.2).
-  void attach_clock(ClockDriver& clock);
+  // `script_runs` (App): counts the units whose script engine has a run, this one included while
+  // it has (scripting::EngineCallbacks::run_changed).
+  void attach_clock(ClockDriver& clock, std::size_t* script_runs = nullptr);
   // --clock manual lock-step (scripting.md §8.2): true while the script woken by a step has not
   // settled again; the clock is resumed (ClockDriver::resume) once it has.
   bool script_holds_clock();
@@ -155,8 +157,10 @@ class DriveUnit {
   // shared: RefGo sessions that outlive the App (in the io_context's handlers) hold weak references
   std::shared_ptr<udp_debug::net::UdpDebugService> udp_debug_;
   std::unique_ptr<web::api::ScriptControl> script_web_;  // a ScriptWeb
-  std::unique_ptr<scripting::ScriptEngine> engine_;      // after the bundle and the UDP service
-  bool hold_waiting_ = false;                            // a lock-step resume is registered with the engine
+  bool script_run_ = false;  // the engine has a run (counted in *script_runs_); before engine_, whose end may report it
+  std::size_t* script_runs_ = nullptr;
+  std::unique_ptr<scripting::ScriptEngine> engine_;  // after the bundle and the UDP service
+  bool hold_waiting_ = false;                        // a lock-step resume is registered with the engine
   bool clock_manual_ = false;
   ClockDriver* clock_ = nullptr;
   // Handlers that may run after the unit is gone (sessions, timers) hold a weak reference.

@@ -41,6 +41,7 @@ struct EngineRig {
     cb.record_changed = [this](const nlohmann::json& r) { records.push_back(r); };
     cb.after_call = [this] { fixture.device().handle_events(); };
     cb.calls = [this](std::uint64_t n) { calls.push_back(n); };
+    cb.run_changed = [this](bool running) { runs.push_back(running); };
     engine = std::make_unique<ScriptEngine>(io, od, core, in, std::move(cb), std::move(settings));
   }
   ~EngineRig() { engine.reset(); }
@@ -141,6 +142,7 @@ struct EngineRig {
   std::vector<std::string> console;
   std::vector<nlohmann::json> records;
   std::vector<std::uint64_t> calls;  // EngineCallbacks::calls: calls since the last wait, per report
+  std::vector<bool> runs;            // EngineCallbacks::run_changed, in order
   std::unique_ptr<ScriptEngine> engine;
   std::uint64_t steps = 0;
 };

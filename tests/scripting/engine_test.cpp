@@ -49,6 +49,7 @@ TEST(Engine, StartPrintsTheDluLinesInOrder) {  // udp-debug.md §7.2
                            "code: starting, script id: " + k_id + "\n\r", "code: compile, script id: " + k_id + "\n\r",
                            "code: execute, script id: " + k_id + "\n\r", "Hello World from MovingCap!\r\n"}));
   EXPECT_EQ(r.read(0x3500, 2), 0);
+  EXPECT_EQ(r.runs, (std::vector<bool>{true, false})) << "the run's begin and end, once each";
 }
 
 TEST(Engine, CompileErrorOfTheDluVector) {  // udp-debug.md §7.3
