@@ -77,9 +77,10 @@ std::uint64_t Fleet::quiet_steps() const {
   return q;
 }
 
+// Every drive is quiet through the stretch (n ≤ quiet_steps()): what each owes and the stretch in one skip.
 void Fleet::skip(std::uint64_t n) {
   ticks_ += n;
-  for (std::size_t i = 0; i < drives_.size(); ++i) settle_one(i);
+  settle();
 }
 
 void Fleet::settle() {
