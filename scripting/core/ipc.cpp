@@ -84,6 +84,9 @@ std::optional<std::vector<Value>> decode_values(std::string_view body) {
   if (body.size() < 2) return std::nullopt;
   const auto count = static_cast<std::size_t>(get_le(body, 0, 2));
   std::size_t at = 2;
+  // Every value takes at least its tag byte: a count beyond the bytes left is refused before any
+  // memory is reserved for it (two bytes must not make the loop reserve 65 535 values).
+  if (count > body.size() - at) return std::nullopt;
   std::vector<Value> out;
   out.reserve(count);
   for (std::size_t k = 0; k < count; ++k) {

@@ -69,6 +69,16 @@ TEST(IpcCodec, ValuesRoundTripAndRejectTruncation) {
   EXPECT_FALSE(ipc::decode_values(std::string("\x01\x00Q", 3)));
 }
 
+TEST(IpcCodec, ValueCountsUpToTheBytesLeftDecode) {
+  // 65 535 `none` values take one byte each: the largest count fits exactly, one byte short is refused.
+  const std::vector<Value> nones(65535, Value::none());
+  const std::string body = ipc::encode_values(nones);
+  ASSERT_EQ(body.size(), 2u + 65535u);
+  EXPECT_EQ(ipc::decode_values(body), nones);
+  EXPECT_FALSE(ipc::decode_values(std::string_view(body).substr(0, body.size() - 1)));
+  EXPECT_FALSE(ipc::decode_values(std::string("\xff\xff", 2)));
+}
+
 TEST(IpcCodec, NetRequestsRoundTripAndBadOnesAreRefused) {
   using K = ipc::NetRequest::Kind;
   for (const ipc::NetRequest& r : {ipc::NetRequest{K::server, "", 5000}, ipc::NetRequest{K::client, "plc.local", 502},
