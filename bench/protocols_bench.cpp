@@ -70,6 +70,27 @@ void BM_SdoSegmentedUpload1008(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 
+// The node's share of a moving drive's step in OPERATIONAL (slcan-canopen.md §9.4): advance() after
+// every 1 ms step, with position actual 6064h (mapped in TPDO 3, RTR-only, so nothing is sent)
+// changed by the drive in between, as the core does. Event-driven TPDOs 1–2 see no change.
+void BM_NodeAdvanceOperational(benchmark::State& state) {
+  Canopen c;
+  mcemu::can::Frame start;
+  start.id = 0;
+  start.dlc = 2;
+  start.data = {0x01, 0x00, 0, 0, 0, 0, 0, 0};
+  benchmark::DoNotOptimize(c.node.on_frame(start, c.now));
+  auto& od = c.drive.od();
+  const auto position = od.handle(0x6064, 0);
+  std::int64_t p = 0;
+  for (auto _ : state) {
+    (void)od.set(position, mcemu::od::Value{++p});
+    c.now += std::chrono::milliseconds(1);
+    benchmark::DoNotOptimize(c.node.advance(c.now));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
 // The RefGo interpreter of a drive bundle, one step after power on.
 struct Refgo {
   Refgo() : interpreter(drive.refgo()) { drive.step(); }
@@ -92,6 +113,7 @@ void BM_RefgoOW(benchmark::State& state) { refgo_line(state, "OW6083,0,2000"); }
 BENCHMARK(BM_SdoExpeditedUpload);
 BENCHMARK(BM_SdoUploadThroughSlcanText);
 BENCHMARK(BM_SdoSegmentedUpload1008);
+BENCHMARK(BM_NodeAdvanceOperational);
 BENCHMARK(BM_RefgoTP);
 BENCHMARK(BM_RefgoORHex);
 BENCHMARK(BM_RefgoOW);

@@ -119,8 +119,12 @@ AbortCode ObjectDictionary::check_upload(std::uint16_t index, std::uint8_t sub) 
 Result<Value> ObjectDictionary::read(std::uint16_t index, std::uint8_t sub) const {
   auto h = locate(index, sub);
   if (!h) return h.error();
-  if (layout_->info(*h).access == Access::wo) return AbortCode::write_only;
-  return read_entry(*h);
+  return read(*h);
+}
+
+Result<Value> ObjectDictionary::read(Handle h) const {
+  if (layout_->info(h).access == Access::wo) return AbortCode::write_only;
+  return read_entry(h);
 }
 
 Result<std::int64_t> ObjectDictionary::read_number(std::uint16_t index, std::uint8_t sub) const {

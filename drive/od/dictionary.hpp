@@ -161,6 +161,8 @@ class ObjectDictionary {
   // for a fleet's clock before it steps this drive (sim::Steppable::prefetch); changes nothing.
   void prefetch() const;
   Value value(Handle h) const;
+  // read() of a resolved entry: the access check and the read hook, no lookup.
+  Result<Value> read(Handle h) const;
   AbortCode set(Handle h, const Value& v);
 
   // Reads of entries that must exist for the caller's model (throws std::out_of_range otherwise).

@@ -1,7 +1,6 @@
 #include "protocols/canopen/tpdo.hpp"
 
 #include "protocols/canopen/od_access.hpp"
-#include "protocols/canopen/pdo_map.hpp"
 
 namespace mcemu::canopen {
 namespace {
@@ -11,32 +10,36 @@ bool synchronous(int type) { return type >= 0 && type <= 240; }
 
 }  // namespace
 
-TpdoSet::Config TpdoSet::config(int n) const {
-  Config c;
-  const auto comm = static_cast<std::uint16_t>(0x1800 + n);
-  const auto cob = stored_number(od_, comm, 1);
-  if (!cob || !od_.has_object(static_cast<std::uint16_t>(0x1A00 + n))) return c;
-  c.exists = true;
-  const auto raw = static_cast<std::uint32_t>(*cob);
-  c.valid = (raw & k_cob_invalid) == 0;
-  c.rtr_allowed = (raw & k_cob_no_rtr) == 0;
-  c.can_id = raw & 0x7FF;
-  c.type = static_cast<int>(stored_number_or(od_, comm, 2, 255));
-  // 100 µs units; simulated time has 1 ms resolution, so a partial millisecond rounds up.
-  c.inhibit = Millis((stored_number_or(od_, comm, 3, 0) + 9) / 10);
-  c.event_timer = Millis(stored_number_or(od_, comm, 5, 0));
-  return c;
+const TpdoSet::Pdo& TpdoSet::pdo(int n) const {
+  if (resolved_at_ != od_.settings_generation()) {
+    for (int k = 0; k < 4; ++k) {
+      Pdo& p = pdos_[static_cast<std::size_t>(k)];
+      p = Pdo{};
+      const auto comm = static_cast<std::uint16_t>(0x1800 + k);
+      const auto mapping = static_cast<std::uint16_t>(0x1A00 + k);
+      const auto cob = stored_number(od_, comm, 1);
+      if (!cob || !od_.has_object(mapping)) continue;
+      Config& c = p.config;
+      c.exists = true;
+      const auto raw = static_cast<std::uint32_t>(*cob);
+      c.valid = (raw & k_cob_invalid) == 0;
+      c.rtr_allowed = (raw & k_cob_no_rtr) == 0;
+      c.can_id = raw & 0x7FF;
+      c.type = static_cast<int>(stored_number_or(od_, comm, 2, 255));
+      // 100 µs units; simulated time has 1 ms resolution, so a partial millisecond rounds up.
+      c.inhibit = Millis((stored_number_or(od_, comm, 3, 0) + 9) / 10);
+      c.event_timer = Millis(stored_number_or(od_, comm, 5, 0));
+      if (const auto map = read_mapping(od_, mapping)) p.map = resolve_mapping(od_, *map);
+    }
+    resolved_at_ = od_.settings_generation();
+  }
+  return pdos_[static_cast<std::size_t>(n)];
 }
 
-std::vector<std::uint8_t> TpdoSet::payload(int n) const {
-  const auto map = read_mapping(od_, static_cast<std::uint16_t>(0x1A00 + n));
-  return map ? build_payload(od_, *map) : std::vector<std::uint8_t>{};
-}
-
-void TpdoSet::send(int n, const Config& c, std::vector<std::uint8_t> data, Millis now, Outbox& out) {
-  out.tpdo.emplace_back(n, make_frame(c.can_id, data.data(), data.size()));
+void TpdoSet::send(int n, const Config& c, const PdoData& data, Millis now, Outbox& out) {
+  out.tpdo.emplace_back(n, make_frame(c.can_id, data.bytes.data(), data.size));
   State& s = state_[static_cast<std::size_t>(n)];
-  s.last = std::move(data);
+  s.last = data;
   s.last_time = now;
   s.due.reset();
 }
@@ -44,7 +47,7 @@ void TpdoSet::send(int n, const Config& c, std::vector<std::uint8_t> data, Milli
 void TpdoSet::enter_operational(Millis now, Outbox& out) {
   state_ = {};
   for (int n = 0; n < 4; ++n) {
-    const Config c = config(n);
+    const Config& c = config(n);
     if (c.exists && c.valid && event_driven(c.type)) send(n, c, payload(n), now, out);
   }
 }
@@ -53,12 +56,12 @@ void TpdoSet::leave_operational() { state_ = {}; }
 
 void TpdoSet::on_sync(Millis now, Outbox& out) {
   for (int n = 0; n < 4; ++n) {
-    const Config c = config(n);
+    const Config& c = config(n);
     if (!c.exists || !c.valid) continue;
     State& s = state_[static_cast<std::size_t>(n)];
     if (c.type == 0) {
       auto p = payload(n);
-      if (!s.last || *s.last != p) send(n, c, std::move(p), now, out);
+      if (!s.last || *s.last != p) send(n, c, p, now, out);
     } else if (synchronous(c.type)) {
       if (++s.sync_count >= c.type) {
         s.sync_count = 0;
@@ -72,11 +75,10 @@ void TpdoSet::on_sync(Millis now, Outbox& out) {
 
 bool TpdoSet::on_rtr(std::uint32_t can_id, Millis now, Outbox& out) {
   for (int n = 0; n < 4; ++n) {
-    const Config c = config(n);
+    const Config& c = config(n);
     if (!c.exists || !c.valid || !c.rtr_allowed || c.can_id != can_id) continue;
     State& s = state_[static_cast<std::size_t>(n)];
-    auto data = (c.type == 252 && s.sampled) ? *s.sampled : payload(n);
-    send(n, c, std::move(data), now, out);
+    send(n, c, (c.type == 252 && s.sampled) ? *s.sampled : payload(n), now, out);
     return true;
   }
   return false;
@@ -84,7 +86,7 @@ bool TpdoSet::on_rtr(std::uint32_t can_id, Millis now, Outbox& out) {
 
 void TpdoSet::check(Millis now, Outbox& out) {
   for (int n = 0; n < 4; ++n) {
-    const Config c = config(n);
+    const Config& c = config(n);
     State& s = state_[static_cast<std::size_t>(n)];
     if (!c.exists || !c.valid || !event_driven(c.type)) {
       s.due.reset();
@@ -101,7 +103,7 @@ void TpdoSet::check(Millis now, Outbox& out) {
       s.due = *s.last_time + c.inhibit;  // sent at the window's end with the values current then
       continue;
     }
-    send(n, c, std::move(p), now, out);
+    send(n, c, p, now, out);
   }
 }
 
@@ -113,7 +115,7 @@ std::optional<Millis> TpdoSet::next_deadline() const {
   for (int n = 0; n < 4; ++n) {
     const State& s = state_[static_cast<std::size_t>(n)];
     if (s.due) consider(*s.due);
-    const Config c = config(n);
+    const Config& c = config(n);
     if (c.exists && c.valid && event_driven(c.type) && c.event_timer.count() > 0 && s.last_time) {
       consider(*s.last_time + c.event_timer);
     }

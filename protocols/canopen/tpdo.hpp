@@ -2,6 +2,12 @@
 // and event-driven (254/255) with inhibit time and event timer; change detection compares the
 // payload built from the OD with the last one sent. Active only in OPERATIONAL (the node calls it
 // only then). Pure.
+//
+// check() runs after every drive step, so what does not change in a step is not redone in it: the
+// communication parameters (18xxh) and mappings (1Axxh) are resolved to a Config and handles once
+// and again only when the dictionary's settings generation moves. That count covers them: they are
+// settings (rw: a master's write, a Store/Restore or reset-communication load) or fixed (const, and
+// the ro static mappings no one writes). The payload is built every check, into 8 bytes on the stack.
 #pragma once
 
 #include <array>
@@ -9,6 +15,7 @@
 #include <vector>
 
 #include "drive/od/dictionary.hpp"
+#include "protocols/canopen/pdo_map.hpp"
 #include "protocols/canopen/types.hpp"
 
 namespace mcemu::canopen {
@@ -38,19 +45,27 @@ class TpdoSet {
     Millis event_timer{0};
   };
   struct State {
-    std::optional<std::vector<std::uint8_t>> last;
+    std::optional<PdoData> last;
     std::optional<Millis> last_time;
     int sync_count = 0;
-    std::optional<std::vector<std::uint8_t>> sampled;
+    std::optional<PdoData> sampled;
     std::optional<Millis> due;  // a send is wanted at this time (inhibit end or timer)
   };
+  struct Pdo {
+    Config config;
+    ResolvedMap map;  // empty when 1Axxh is absent
+  };
 
-  Config config(int n) const;
-  std::vector<std::uint8_t> payload(int n) const;
-  void send(int n, const Config& c, std::vector<std::uint8_t> data, Millis now, Outbox& out);
+  // The resolved TPDO n, refreshed first when the settings generation moved.
+  const Pdo& pdo(int n) const;
+  const Config& config(int n) const { return pdo(n).config; }
+  PdoData payload(int n) const { return build_payload(od_, pdo(n).map); }
+  void send(int n, const Config& c, const PdoData& data, Millis now, Outbox& out);
 
   const od::ObjectDictionary& od_;
   std::array<State, 4> state_{};
+  mutable std::array<Pdo, 4> pdos_{};                 // a cache: next_deadline() const reads it too
+  mutable std::optional<std::uint64_t> resolved_at_;  // the settings generation pdos_ was resolved at
 };
 
 }  // namespace mcemu::canopen

@@ -91,11 +91,16 @@ TEST(DynamicMapping, EnablingAnEmptyMappingIsRefusedAndMappingSurvivesResetCommu
   EXPECT_EQ(h.number(0x1A00, 0), 1);
   EXPECT_EQ(h.number(0x1A00, 1), 0x60640020);
   EXPECT_EQ(h.number(0x1800, 1), 0x1B2);
+  // the TPDO goes out with the mapping loaded (a bulk load, no write: the TPDO's resolved mapping
+  // must follow it)
+  h.set(0x6064, 0, 30000);
+  EXPECT_EQ(h.send("t00020132").substr(0, 14), "t1B2430750000\r");
   // without storing, reset communication returns to the factory mapping
   h.stored.clear();
   h.send("t00028232");
   h.wait(10ms);
   EXPECT_EQ(h.number(0x1A00, 1), 0x60410010);
+  EXPECT_EQ(h.send("t00020132").substr(0, 5), "t1B22");  // statusword alone
 }
 
 TEST(DynamicMapping, EveryMappingObjectHasEightEntries) {
