@@ -8,11 +8,11 @@
 // complete or fail pending state-file writes, or half-close A (then reconnect it).
 // Drive time advances as under the server's manual clock (tests/fuzz/drive_time.hpp: quiet
 // stretches skipped, needed steps in full; every other op touches the drive as a client's input
-// wakes the clock). Budget per input: 20 s of drive time, as before the skipping, so that every
-// timer the ops can set still runs out — a Back & Forth with WT < 1000 ms (the short numbers the
-// ops make) goes forth and back ~9 times (refgo.md §7.7: ~1.1 s a way at RW100 WT999), a JP<t>
+// wakes the clock). Budget per input (drive_time.hpp): 20 s of drive time, so that every timer the
+// ops can set runs out, and 3 s of it in full steps — a Back & Forth with WT < 1000 ms (the short
+// numbers the ops make) goes forth and back (refgo.md §7.7: ~1.1 s a way at RW100 WT999), a JP<t>
 // timer stops the jog, a move settles. An idle drive passes it in a few full steps; an enabled one
-// steps every ms (~5 µs a step under ASan: at most ~0.1 s for an input).
+// steps every ms (~2 µs a step under ASan: at most ~6 ms for an input).
 // Oracles beyond "no crash, no sanitizer report": every reply has the layout of refgo.md §3
 // ("<echo>\r\n[<answer>\r\n]>" or ">"), a connection's output only ever ends after a complete
 // reply, every complete line gets exactly one reply once the writes are done (§2.5), and the
@@ -40,7 +40,6 @@ using namespace mcemu;
 constexpr std::array<const char*, 27> k_words = {"G",  "GW",  "SM", "CM", "PWC",  "PQ", "REF", "JP", "JN",
                                                  "RR", "OR",  "OW", "TP", "TPSR", "TS", "TI",  "SP", "AC",
                                                  "DE", "ACV", "PO", "WA", "SO",   "CO", "RW",  "WT", "XYZ"};
-constexpr std::uint64_t k_max_ms = 20000;  // drive time per input (header comment)
 
 // The (index, sub) of every entry of the preset, for the OR/OW op: the same for every input.
 std::vector<std::pair<std::uint16_t, std::uint8_t>> g_entries;
@@ -135,7 +134,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   auto a = std::make_unique<Connection>(interpreter);
   Connection b(interpreter);
   std::vector<std::unique_ptr<Connection>> finished;  // half-closed, still owing replies
-  fuzz::DriveTime drive_time(drive.device().steps(), k_max_ms);
+  fuzz::DriveTime drive_time(drive.device().steps());
   const auto collect_all = [&] {
     a->collect();
     b.collect();

@@ -11,9 +11,9 @@
 // completing or failing.
 // Drive time advances as under the server's manual clock (tests/fuzz/drive_time.hpp: quiet
 // stretches skipped, needed steps in full; every other op touches the drive as a client's input
-// wakes the clock). Budget per input: 20 s of drive time, as before the skipping: SDO server
-// timeouts (1 s), heartbeats and guarding, boot-up delays still happen, also while a drive enabled
-// over SDO needs every step; an idle drive passes it in a few full steps.
+// wakes the clock). Budget per input (drive_time.hpp): 20 s of drive time, 3 s of it in full steps:
+// SDO server timeouts (1 s), heartbeats and guarding, boot-up delays still happen, also while a
+// drive enabled over SDO needs every step; an idle drive passes it in a few full steps.
 // Oracles beyond "no crash, no sanitizer report": every complete line gets exactly one reply in
 // order (§3.2 rule 5); every line mcemu sends is a reply of §3.4 or a frame line that parses back
 // (§3.6: upper-case hex, digits = 2·DLC, CR only); the dictionary is never corrupted.
@@ -38,7 +38,6 @@ namespace {
 using namespace mcemu;
 using namespace std::chrono_literals;
 
-constexpr std::uint64_t k_max_ms = 20000;  // drive time per input (header comment)
 constexpr std::uint16_t k_sdo_rx = 0x600 + 50;
 
 // One SLCAN connection: a session the bus made (it leaves the bus when destroyed).
@@ -131,8 +130,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   Client a(bus);
   Client b(bus);
-  drive.device().power_up_network();                             // boot-up, as at the start of mcemu
-  fuzz::DriveTime drive_time(drive.device().steps(), k_max_ms);  // the bus too
+  drive.device().power_up_network();                   // boot-up, as at the start of mcemu
+  fuzz::DriveTime drive_time(drive.device().steps());  // the bus too
   // what the node has ready now (a completed Store, an EMCY after a write) goes out at once
   const auto flush = [&] { bus.step(std::chrono::milliseconds(0)); };
   const auto index_sub = [&](std::array<std::uint8_t, 8>& d) {
