@@ -352,6 +352,46 @@ TEST(Router, ObjectsReadAndWrite) {
   EXPECT_EQ(all[0].size(), 7u) << all[0].dump();
 }
 
+// GET /api/v1/objects is written without a document (web/api/handlers_drive.cpp): its text must be
+// what dump_json() prints for the document of web.md §8.3, byte for byte, also for a string that
+// needs escaping and holds bytes that are not UTF-8.
+TEST(Router, ObjectListIsTheTextOfItsDocument) {
+  ApiFixture f;
+  f.services.factory = [](std::uint16_t i, std::uint8_t s) -> std::optional<od::Value> {
+    if (i == 0x6083 && s == 0) return od::Value{std::int64_t{-777}};
+    return std::nullopt;
+  };
+  const std::string odd("q\"b\\s\x01\t\xff\xfe \xc3\xa9 end");
+  ASSERT_EQ(f.od.write(0x3500, 1, od::Value{odd}, od::Origin::internal), od::AbortCode::none);
+  const auto value = [](const od::Value& v) {
+    return std::holds_alternative<std::int64_t>(v) ? json(std::get<std::int64_t>(v)) : json(std::get<std::string>(v));
+  };
+  json expected = json::array();
+  f.od.for_each([&](const od::EntryInfo& e, const od::Value&) {
+    const auto v = f.od.read(e.index, e.sub);
+    const auto factory = f.services.factory(e.index, e.sub);
+    expected.push_back({{"index", hex_index(e.index)},
+                        {"sub", hex_sub(e.sub)},
+                        {"name", std::string(e.name)},
+                        {"type", od::to_string(e.type)},
+                        {"access", od::to_string(e.access)},
+                        {"value", v ? value(*v) : json(nullptr)},
+                        {"factory", value(factory ? *factory : e.factory)}});
+  });
+  const auto all = f.call("GET", "/api/v1/objects");
+  ASSERT_EQ(all.status, 200);
+  EXPECT_EQ(all.content_type, "application/json");
+  EXPECT_EQ(all.body, device::dump_json(expected));
+  EXPECT_NE(all.body.find(R"("value":"q\"b\\s\u0001\t)"), std::string::npos);
+  const auto one = f.call("GET", "/api/v1/objects/6083/0");
+  ASSERT_EQ(one.status, 200);
+  for (const auto& e : expected) {
+    if (e["index"] == "6083" && e["sub"] == "00") {
+      EXPECT_EQ(one.body, device::dump_json(e));
+    }
+  }
+}
+
 TEST(Router, FactoryValuesComeFromTheHook) {
   ApiFixture f;
   f.services.factory = [](std::uint16_t i, std::uint8_t s) -> std::optional<od::Value> {
