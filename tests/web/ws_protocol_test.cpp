@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <random>
 
 namespace mcemu::web::api {
 namespace {
@@ -80,6 +81,164 @@ INSTANTIATE_TEST_SUITE_P(
         MessageCase{R"({"subscribe":["trace"],"channels":["nope"]})", subs({}), false, subs({})},
         MessageCase{R"({"subscribe":["trace"],"channels":"refgo"})", subs({}), false, subs({})},
         MessageCase{R"({"subscribe":["trace"],"channels":[1]})", subs({}), false, subs({})}));
+
+// The reading of a message as a document (the parser before it became an event parser): the
+// meaning of a message, which the event parser must keep for every text.
+std::optional<ClientMessage> parse_as_document(std::string_view text) {
+  using json = nlohmann::json;
+  const json j = json::parse(text.begin(), text.end(), nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return std::nullopt;
+  const auto topics = [](const json& v) -> std::optional<std::vector<Topic>> {
+    if (!v.is_array()) return std::nullopt;
+    std::vector<Topic> out;
+    for (const auto& item : v) {
+      if (!item.is_string()) return std::nullopt;
+      if (const auto t = topic_from_string(item.get_ref<const std::string&>())) out.push_back(*t);
+    }
+    return out;
+  };
+  const auto sub = j.find("subscribe");
+  const auto unsub = j.find("unsubscribe");
+  if (sub == j.end() && unsub == j.end()) return std::nullopt;
+  ClientMessage m;
+  if (sub != j.end()) {
+    auto list = topics(*sub);
+    if (!list) return std::nullopt;
+    m.subscribe = *list;
+  }
+  if (unsub != j.end()) {
+    auto list = topics(*unsub);
+    if (!list) return std::nullopt;
+    m.unsubscribe = *list;
+  }
+  if (const auto ch = j.find("channels"); ch != j.end()) {
+    if (!ch->is_array()) return std::nullopt;
+    auto set = trace::ChannelSet::none();
+    for (const auto& item : *ch) {
+      if (!item.is_string()) return std::nullopt;
+      const auto c = trace::channel_from_string(item.get_ref<const std::string&>());
+      if (!c) return std::nullopt;
+      set.add(*c);
+    }
+    m.channels = set;
+  }
+  return m;
+}
+
+std::string describe(const std::optional<ClientMessage>& m) {
+  if (!m) return "ignored";
+  std::string s = "subscribe";
+  for (auto t : m->subscribe) (s += ' ') += to_string(t);
+  s += "; unsubscribe";
+  for (auto t : m->unsubscribe) (s += ' ') += to_string(t);
+  if (m->channels) {
+    s += "; channels";
+    for (std::size_t i = 0; i < trace::k_channel_count; ++i) {
+      if ((m->channels->bits >> i) & 1U) (s += ' ') += trace::to_string(static_cast<trace::Channel>(i));
+    }
+  }
+  return s;
+}
+
+// Texts a client could send, and some it should not: every key and kind of value at every place,
+// duplicate keys, escapes, nesting, and texts cut short or with a byte changed.
+class MessageGenerator {
+ public:
+  explicit MessageGenerator(unsigned seed) : rng_(seed) {}
+
+  std::string next() {
+    std::string s = pick(6) == 0 ? value(0) : object(0);
+    if (pick(8) == 0 && !s.empty()) s.resize(pick(static_cast<unsigned>(s.size())));
+    if (pick(8) == 0 && !s.empty()) s[pick(static_cast<unsigned>(s.size()))] = "{}[],:\"\\ 1a"[pick(11)];
+    return s;
+  }
+
+ private:
+  unsigned pick(unsigned n) { return std::uniform_int_distribution<unsigned>(0, n - 1)(rng_); }
+  static std::string quoted(std::string_view text) {
+    std::string s(1, '"');
+    s.append(text);
+    s.push_back('"');
+    return s;
+  }
+
+  std::string name() {
+    static constexpr const char* k_names[] = {"status", "scope", "trace",  "udp", "refgo",        "slcan", "http",
+                                              "drive",  "api",   "STATUS", "",    "st\\u0061tus", "x",     "script"};
+    return quoted(k_names[pick(std::size(k_names))]);
+  }
+  std::string key() {
+    static constexpr const char* k_keys[] = {"subscribe", "unsubscribe", "channels", "type", "sub\\u0073cribe",
+                                             "",          "Subscribe"};
+    return quoted(k_keys[pick(std::size(k_keys))]);
+  }
+  std::string list(int depth) {
+    std::string s = "[";
+    const unsigned n = pick(5);
+    for (unsigned i = 0; i < n; ++i) {
+      if (i) s += ',';
+      s += pick(5) == 0 ? value(depth + 1) : name();
+    }
+    return s + "]";
+  }
+  std::string value(int depth) {
+    switch (pick(depth < 3 ? 8 : 5)) {
+      case 0: return "null";
+      case 1: return pick(2) ? "true" : "-12.5e3";
+      case 2: return std::to_string(static_cast<int>(pick(2000)) - 1000);
+      case 3:
+      case 4: return name();
+      case 5:
+      case 6: return list(depth);
+      default: return object(depth + 1);
+    }
+  }
+  std::string object(int depth) {
+    std::string s = "{";
+    const unsigned n = pick(5);
+    for (unsigned i = 0; i < n; ++i) {
+      if (i) s += ',';
+      s += key();
+      s += ':';
+      s += pick(3) ? list(depth) : value(depth);
+    }
+    return s + "}";
+  }
+
+  std::mt19937 rng_;
+};
+
+// The event parser means what the document parser meant, text for text.
+TEST(WsClientMessageParser, MeansWhatTheDocumentMeant) {
+  MessageGenerator gen(26);
+  int applied = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const std::string text = gen.next();
+    const auto expected = parse_as_document(text);
+    const auto got = parse_client_message(text);
+    ASSERT_EQ(describe(got), describe(expected)) << text;
+    applied += expected ? 1 : 0;
+  }
+  // the generator reaches both outcomes often
+  EXPECT_GT(applied, 2000);
+  EXPECT_LT(applied, 18000);
+}
+
+TEST(WsClientMessageParser, DuplicateKeysLastCounts) {
+  EXPECT_EQ(describe(parse_client_message(R"({"subscribe":3,"subscribe":["udp"]})")), "subscribe udp; unsubscribe");
+  EXPECT_FALSE(parse_client_message(R"({"subscribe":["udp"],"subscribe":3})"));
+  EXPECT_EQ(describe(parse_client_message(R"({"subscribe":["trace"],"channels":["x"],"channels":["refgo"]})")),
+            "subscribe trace; unsubscribe; channels refgo");
+}
+
+TEST(WsClientMessageParser, OtherKeysAreSkippedHoweverDeep) {
+  std::string deep = R"({"subscribe":["udp"],"other":)";
+  for (int i = 0; i < 10000; ++i) deep += R"([{"subscribe":)";
+  deep += "1";
+  for (int i = 0; i < 10000; ++i) deep += "}]";
+  deep += "}";
+  EXPECT_EQ(describe(parse_client_message(deep)), "subscribe udp; unsubscribe");
+}
 
 TEST(WsMessages, Hello) {
   const auto j = nlohmann::json::parse(hello_message(R"({"model":"MC349"})"));

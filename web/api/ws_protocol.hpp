@@ -9,7 +9,8 @@
 // skipped; a message that is not JSON, not an object, has neither key, has a key that is not an array
 // of strings, or has a "channels" that is not an array of known trace channel names is ignored as a
 // whole. "channels" sets the trace filter when "trace" is subscribed; subscribing "trace" without it
-// selects all channels.
+// selects all channels. Of duplicate keys the last counts; other keys are skipped, however deep
+// (read as events, no document is built).
 #pragma once
 
 #include <cstdint>
