@@ -174,9 +174,9 @@ void BM_BasicSpin_GetobjLine(benchmark::State& state) {
 }
 
 // The heap a moving MovingCap holds once its histories are full (issue 26: a moving fleet's memory
-// over time): the 60 s scope ring and the 10 000-event trace ring, after an hour of Back & Forth in
-// drive time. Counters in KiB from malloc's own counts (mallinfo2: arena and mmapped blocks): the
-// drive as built, and what the hour added.
+// over time): the 60 s scope ring and the trace ring (argument: its size, "trace": {"events": N}),
+// after an hour of Back & Forth in drive time. Counters in KiB from malloc's own counts (mallinfo2:
+// arena and mmapped blocks): the drive as built, and what the hour added.
 void BM_MovingHourHeap_MC349(benchmark::State& state) {
   const auto heap = [] {
     const auto m = mallinfo2();
@@ -184,7 +184,9 @@ void BM_MovingHourHeap_MC349(benchmark::State& state) {
   };
   for (auto _ : state) {
     const double h0 = heap();
-    DeviceFixture d("MC349", quiet());
+    DeviceOptions o = quiet();
+    o.config["trace"]["events"] = state.range(0);
+    DeviceFixture d("MC349", std::move(o));
     start_back_and_forth(d);
     const double h1 = heap();
     d.step(3'600'000);
@@ -219,5 +221,5 @@ BENCHMARK(BM_MovingStep_MC349);
 BENCHMARK(BM_MovingStep_FH_MC5005);
 BENCHMARK(BM_MovingFleet_MC349)->Arg(1)->Arg(100)->Arg(300)->Arg(1000);
 BENCHMARK(BM_IdleMinute_MC349);
-BENCHMARK(BM_MovingHourHeap_MC349)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MovingHourHeap_MC349)->Arg(10000)->Arg(1000)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TraceRecord);

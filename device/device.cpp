@@ -40,6 +40,23 @@ lint::Config lint_config(const nlohmann::json& config, const Setup& setup) {
   return c;
 }
 
+// The "trace" section: {"events": N}, the size of the drive's trace ring (web.md §8.6: 10 000 by
+// default). A large fleet of moving drives may keep fewer: a full ring holds ~70 bytes per event.
+std::size_t trace_events(const nlohmann::json& config) {
+  const auto it = config.find("trace");
+  if (it == config.end()) return trace::Ring::k_default_capacity;
+  const std::string what = "config: \"trace.events\" must be an integer 1 … " + std::to_string(k_max_trace_events);
+  if (!it->is_object()) throw ConfigError("config: \"trace\" must be an object");
+  for (const auto& [key, value] : it->items()) {
+    if (key != "events") throw ConfigError("config: unknown key \"trace." + key + "\"");
+    if (!value.is_number_integer() || value.get<std::int64_t>() < 1 ||
+        value.get<std::int64_t>() > static_cast<std::int64_t>(k_max_trace_events)) {
+      throw ConfigError(what);
+    }
+  }
+  return it->value("events", trace::Ring::k_default_capacity);
+}
+
 std::string hex2(std::uint32_t v) {
   char buf[16];
   std::snprintf(buf, sizeof buf, "%02X", v);
@@ -70,7 +87,8 @@ Device::Device(Setup setup, Environment env)
   if (personality_->faulhaber) build_faulhaber();
   if (personality_->basic) build_basic();
   trace_ = std::make_unique<trace::Ring>(
-      trace::Ring::Clocks{[this] { return core_->time_ms(); }, [this] { return env_.unix_ms ? env_.unix_ms() : 0; }});
+      trace::Ring::Clocks{[this] { return core_->time_ms(); }, [this] { return env_.unix_ms ? env_.unix_ms() : 0; }},
+      trace_events(config_));
   faults_ = std::make_unique<FaultInjections>(*od_, *core_);
   has_1002_ = od_->find(0x1002, 0).has_value();
   wire_faults();

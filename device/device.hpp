@@ -46,10 +46,14 @@
 namespace mcemu::device {
 
 // What a bundle is built from: the drive's model and its --config document.
+// The largest trace ring a "trace": {"events": N} section may ask for (~70 MB when full).
+inline constexpr std::size_t k_max_trace_events = 1'000'000;
+
 struct Setup {
   std::string model = "MC349";
   // The drive's config document: "objects", "model_overrides", "plant", "homing", "slcan",
-  // "canopen", "settings" (docs/reference/persistence.md §5, models.md, web.md §8.9).
+  // "canopen", "settings", "trace" (docs/reference/persistence.md §5, models.md, web.md §8.9,
+  // §8.6).
   nlohmann::json config = nlohmann::json::object();
   // --ip given explicitly: overlays 5007h after the state file (persistence.md §6).
   std::optional<std::array<std::uint8_t, 4>> explicit_ip;

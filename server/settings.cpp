@@ -21,8 +21,9 @@ constexpr std::uint64_t k_max_drives = 4096;
 constexpr std::uint64_t k_max_idle_timeout_s = 7 * 24 * 3600;  // a week
 const std::set<std::string> k_levels = {"trace", "debug", "info", "warn", "error", "critical", "off"};
 // Top-level config sections owned by components; validated there.
-const std::set<std::string> k_sections = {"objects",  "model_overrides", "plant", "homing", "slcan",     "canopen",
-                                          "settings", "refgo",           "http",  "udp",    "scripting", "faulhaber"};
+const std::set<std::string> k_sections = {"objects",   "model_overrides", "plant", "homing", "slcan",
+                                          "canopen",   "settings",        "refgo", "http",   "udp",
+                                          "scripting", "faulhaber",       "trace"};
 
 std::string names_of_presets() {
   std::string out;
@@ -323,7 +324,8 @@ Usage: mcemu [options]
   --ip A.B.C.D        the drive's own IP address as it reports it (default 192.168.2.150)
   --state-dir DIR     where Store Permanently keeps parameters (default ./mcemu-state)
   --config FILE       JSON file with any of these options (without "--") and sections
-                      "objects", "model_overrides", "plant", "homing", "slcan", "canopen", "settings"
+                      "objects", "model_overrides", "plant", "homing", "slcan", "canopen", "settings",
+                      "trace" ({"events": N}: the trace ring's size, default 10000)
   --log-level L       trace, debug, info, warn, error, critical, off (default info)
   --max-clients N     simultaneous TCP connections per service (default 8 RefGo/SLCAN/FAULHABER,
                       32 HTTP)

@@ -44,6 +44,37 @@ TEST(BasicBudget, RefusesZeroAboveTheMaximumAndNonIntegers) {
   }
 }
 
+// "trace": {"events": N} sizes the drive's trace ring (docs/fleet.md "What a drive costs").
+TEST(TraceEvents, SizeTheRing) {
+  for (const std::size_t n : {std::size_t{1}, std::size_t{300}, k_max_trace_events}) {
+    DeviceFixture d("MC349", json{{"trace", {{"events", n}}}});
+    EXPECT_EQ(d.device().trace().capacity(), n);
+  }
+  EXPECT_EQ(DeviceFixture("MC349").device().trace().capacity(), trace::Ring::k_default_capacity);
+  DeviceFixture d("FH_MC5005", json{{"trace", {{"events", 300}}}});
+  for (int i = 0; i < 1000; ++i) d.device().trace().record(trace::Channel::api, trace::Dir::event, "x");
+  EXPECT_EQ(d.device().trace().size(), 300u) << "the newest 300 events stay";
+}
+
+TEST(TraceEvents, RefusesWhatIsNotACount) {
+  const std::string range = "config: \"trace.events\" must be an integer 1 … 1000000";
+  for (const auto& [config, message] : std::vector<std::pair<json, std::string>>{
+           {json{{"trace", 5}}, "config: \"trace\" must be an object"},
+           {json{{"trace", {{"events", 0}}}}, range},
+           {json{{"trace", {{"events", -3}}}}, range},
+           {json{{"trace", {{"events", 1000001}}}}, range},
+           {json{{"trace", {{"events", 50.5}}}}, range},
+           {json{{"trace", {{"events", "100"}}}}, range},
+           {json{{"trace", {{"size", 100}}}}, "config: unknown key \"trace.size\""}}) {
+    try {
+      DeviceFixture d("MC349", config);
+      ADD_FAILURE() << config.dump() << " was accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(std::string(e.what()), message) << config.dump();
+    }
+  }
+}
+
 // persistence.md §5 steps 1–3: preset → dictionary → --config objects. The image is made when a
 // restore, a motor store or a factory value first asks for it, long after the state file was loaded,
 // --ip overlaid and RAM written: none of those may reach it.

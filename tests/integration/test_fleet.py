@@ -196,6 +196,33 @@ class FleetFile(unittest.TestCase):
                 self.assertNotEqual(m.read_object_of(3, 0x6083, 0), 2000)
                 self.assertNotEqual(m.read_object_of(1, 0x1008, 0), m.read_object_of(2, 0x1008, 0))
 
+    def test_trace_ring_size_per_drive(self):
+        # docs/fleet.md: "trace": {"events": N} in a fleet entry sizes that drive's trace ring only
+        with tempfile.TemporaryDirectory(prefix="mcemu-fleet-") as tmp:
+            fleet = os.path.join(tmp, "fleet.json")
+            with open(fleet, "w") as f:
+                json.dump([{"model": "MC349", "trace": {"events": 5}}, {"model": "MC349"}], f)
+            with Mcemu("--fleet", fleet) as m:
+                wait_for(lambda: len(m.drives) == 2, what="two drives")
+                for k in (1, 2):
+                    address, port = m.drives[k]["refgo"]
+                    for i in range(10):
+                        self.assertEqual(refgo(address, port, f"OW6081,0,{1000 + i}"), f"OW6081,0,{1000 + i},OK")
+                small = json.loads(m.http("GET", "/api/v1/trace?limit=500", drive=1)[1])
+                large = json.loads(m.http("GET", "/api/v1/trace?limit=500", drive=2)[1])
+                self.assertEqual(len(small["events"]), 5)
+                self.assertGreater(small["dropped"], 0)
+                self.assertGreaterEqual(len(large["events"]), 20)  # each command: in and out
+                self.assertEqual(large["dropped"], 0)
+                self.assertEqual(small["events"][-1]["seq"], small["nextSeq"] - 1, "the newest stay")
+            fleet_bad = os.path.join(tmp, "bad.json")
+            with open(fleet_bad, "w") as f:
+                json.dump([{"model": "MC349", "trace": {"events": 0}}], f)
+            m = Mcemu("--fleet", fleet_bad, ready=False)
+            self.assertEqual(m.wait_exit(), 2)
+            self.assertIn('"trace.events" must be an integer 1 … 1000000', m.log())
+            m.tmp.cleanup()
+
     def test_bad_fleet_file_is_a_usage_error(self):
         with tempfile.TemporaryDirectory(prefix="mcemu-fleet-") as tmp:
             fleet = os.path.join(tmp, "fleet.json")

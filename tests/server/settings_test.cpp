@@ -157,6 +157,7 @@ TEST(Config, FlagsWithoutDashesAndCommandLineWins) {
                     {"slcan", {{"max_clients", 2}}},
                     {"http", {{"ws_max_clients", 120}}},
                     {"faulhaber", {{"max_clients", 3}}},
+                    {"trace", {{"events", 1000}}},
                     {"objects", {{"6083.00", 2000}}}},
                {"model"});
   EXPECT_EQ(s.model, "MC349") << "the command line wins";
@@ -170,6 +171,7 @@ TEST(Config, FlagsWithoutDashesAndCommandLineWins) {
   EXPECT_EQ(s.ws_max_clients, 120u);
   EXPECT_EQ(Settings{}.ws_max_clients, 16u);
   EXPECT_EQ(s.config["objects"]["6083.00"], 2000);
+  EXPECT_EQ(s.config["trace"]["events"], 1000) << "the drive's section (device/device.cpp)";
 }
 
 TEST(Config, InvalidValuesAreUsageErrors) {
@@ -177,7 +179,7 @@ TEST(Config, InvalidValuesAreUsageErrors) {
        {json{{"modell", "x"}}, json{{"http_port", "eighty"}}, json{{"http_port", 70000}}, json{{"objects", 5}},
         json{{"model", "MC999"}}, json{{"slcan", {{"max_clients", 0}}}}, json{{"http", {{"ws_max_clients", 0}}}},
         json{{"faulhaber", {{"max_clients", 0}}}}, json{{"faulhaber", {{"max_clients", "two"}}}},
-        json{{"http", {{"ws_max_clients", "many"}}}}, json{{"ip", true}}, json::array()}) {
+        json{{"http", {{"ws_max_clients", "many"}}}}, json{{"ip", true}}, json{{"trace", 1000}}, json::array()}) {
     Settings s;
     EXPECT_THROW(apply_config(s, bad, {}), UsageError) << bad.dump();
   }
