@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "device/scope.hpp"
 #include "sim/steppable.hpp"
 #include "tests/support/device_fixture.hpp"
 
@@ -196,6 +197,24 @@ void BM_MovingHourHeap_MC349(benchmark::State& state) {
   }
 }
 
+// A full scope window of a moving drive read back: GET /api/v1/scope without sinceMs (arg 0), and
+// the newest 100 ms a WebSocket scope period takes (arg 1). The ring keeps its runs as bytes, read
+// from the oldest on.
+void BM_ScopeRead(benchmark::State& state) {
+  mcemu::device::Scope s;
+  std::int32_t pos = 0;
+  std::int32_t vel = 0;
+  std::uint64_t t = 0;
+  for (; t < 2 * mcemu::device::Scope::k_window_ms; t += 5) {
+    vel = std::min(vel + 20, 4000);
+    pos += vel / 200;
+    s.add(t, mcemu::device::ScopeSample{pos, vel, 300 + static_cast<std::int32_t>(t % 7), 100000, 0x1237});
+  }
+  const std::uint64_t since = state.range(0) == 0 ? 0 : t - 100;
+  for (auto _ : state) benchmark::DoNotOptimize(s.since_ms(since).samples.size());
+  state.counters["encoded_bytes"] = static_cast<double>(s.encoded_bytes());
+}
+
 // One event into a full trace ring with a listener (the server's WebSocket hand-off), a drive
 // event's text: the cost a moving drive pays per event.
 void BM_TraceRecord(benchmark::State& state) {
@@ -221,5 +240,6 @@ BENCHMARK(BM_MovingStep_MC349);
 BENCHMARK(BM_MovingStep_FH_MC5005);
 BENCHMARK(BM_MovingFleet_MC349)->Arg(1)->Arg(100)->Arg(300)->Arg(1000);
 BENCHMARK(BM_IdleMinute_MC349);
+BENCHMARK(BM_ScopeRead)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MovingHourHeap_MC349)->Arg(10000)->Arg(1000)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TraceRecord);

@@ -61,22 +61,55 @@ class Scope {
   ScopeBlock take_new();
 
   std::size_t size() const { return total_; }
+  // Bytes the encoded runs take (tests, benchmarks): a moving drive's 60 s take ~5 bytes a sample.
+  std::size_t encoded_bytes() const { return bytes_.size(); }
 
  private:
-  // 24 bytes: a moving drive adds one run per sample (each differs), 12 000 of them in 60 s.
   struct Run {
     ScopeSample sample;
     std::uint32_t count = 0;  // ≤ 2 · k_capacity before the ring is trimmed
   };
   static_assert(2 * k_capacity <= UINT32_MAX);
+  // Reads the encoded runs from the oldest on; `prev` is the sample of the run before.
+  struct Reader {
+    std::deque<std::uint8_t>::const_iterator at;
+    ScopeSample prev;
+    std::size_t bytes = 0;  // of the last run read
+    Run next();
+  };
+  static void encode(std::deque<std::uint8_t>& out, const ScopeSample& prev, const Run& run);
+  void push_run(const ScopeSample& s, std::uint32_t n);
+  void drop_oldest(std::size_t n);
   ScopeBlock block_from(std::size_t first) const;
   std::uint64_t time_of(std::size_t i) const { return first_ms_ + i * k_sample_ms; }
 
   const od::ObjectDictionary* source_ = nullptr;        // the dictionary handles_ belong to
   std::array<std::optional<od::Handle>, 5> handles_{};  // 6064h, 606Ch, 6078h, 607Ah, 6041h
-  std::deque<Run> ring_;                                // runs of equal samples, oldest first; total_ samples in all
+  // The ring: runs of equal samples, oldest first, total_ samples in all. A moving drive adds one
+  // run per sample (each differs), 12 000 in 60 s, so all runs but the newest are kept as bytes:
+  // which fields differ from the run before (one byte) and their differences and the count as
+  // varints, ~5 bytes instead of 24. The newest run stays as it is, so that an equal sample only
+  // counts up.
+  // Samples and bytes that left the window since the ring started anew, so that a position in
+  // the ring can be named across drops: the oldest encoded run starts at sample dropped_ -
+  // oldest_dropped_ and at byte erased_.
+  std::uint64_t dropped_ = 0;
+  std::uint64_t erased_ = 0;
+  // Where the last read began (the run it began in): the next read of newer samples — a WebSocket
+  // scope period, ?sinceMs — starts there instead of decoding the window from its oldest run.
+  struct Cursor {
+    std::uint64_t run_start = 0;  // the run's first sample (dropped_ counting)
+    std::uint64_t byte = 0;       // its first byte (erased_ counting)
+    ScopeSample prev;             // the sample of the run before it
+  };
+  mutable std::optional<Cursor> cursor_;
+  std::deque<std::uint8_t> bytes_;
+  ScopeSample base_;                  // the sample of the run before the oldest encoded one
+  ScopeSample last_encoded_;          // of the newest encoded run (base_ while there is none)
+  std::uint32_t oldest_dropped_ = 0;  // samples of the oldest encoded run already out of the window
+  std::optional<Run> newest_;
   std::size_t total_ = 0;
-  std::uint64_t first_ms_ = 0;     // time of ring_[0]
+  std::uint64_t first_ms_ = 0;     // time of the oldest sample
   std::uint64_t next_new_ms_ = 0;  // first sample time take_new() has not returned
 };
 

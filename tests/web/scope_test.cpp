@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <deque>
+#include <random>
+
 #include "tests/web/api_fixture.hpp"
 
 namespace mcemu::web::api {
@@ -73,6 +76,111 @@ TEST(Scope, RingHoldsSixtySeconds) {
   const auto b = s.since_ms(0);
   EXPECT_EQ(b.t0, 70000 - 5 * (12000 - 1));
   EXPECT_EQ(b.samples.back().pos, 70000);
+}
+
+// What the ring means, kept plainly: every sample of the window, one by one.
+class PlainScope {
+ public:
+  void add_run(std::uint64_t t, std::uint64_t count, const ScopeSample& s) {
+    if (count == 0) return;
+    if (count > Scope::k_capacity) {
+      t += (count - Scope::k_capacity) * Scope::k_sample_ms;
+      count = Scope::k_capacity;
+    }
+    if (samples_.empty() || t != first_ + samples_.size() * Scope::k_sample_ms) {
+      samples_.clear();
+      first_ = t;
+      if (t < next_new_) next_new_ = t;
+    }
+    samples_.insert(samples_.end(), count, s);
+    while (samples_.size() > Scope::k_capacity) {
+      samples_.pop_front();
+      first_ += Scope::k_sample_ms;
+    }
+  }
+  std::size_t size() const { return samples_.size(); }
+  device::ScopeBlock since_ms(std::uint64_t t) const {
+    device::ScopeBlock b;
+    std::size_t from = 0;
+    if (!samples_.empty() && t > first_) {
+      from = std::min<std::size_t>((t - first_ + Scope::k_sample_ms - 1) / Scope::k_sample_ms, samples_.size());
+    }
+    b.t0 = samples_.empty() ? 0 : first_ + from * Scope::k_sample_ms;
+    b.samples.assign(samples_.begin() + static_cast<std::ptrdiff_t>(from), samples_.end());
+    return b;
+  }
+  device::ScopeBlock take_new() {
+    auto b = since_ms(next_new_);
+    if (!samples_.empty()) next_new_ = first_ + samples_.size() * Scope::k_sample_ms;
+    return b;
+  }
+
+ private:
+  std::deque<ScopeSample> samples_;
+  std::uint64_t first_ = 0;
+  std::uint64_t next_new_ = 0;
+};
+
+// The encoded ring reads back what was added: random walks with small and extreme steps, equal
+// samples, long runs, gaps and time going back, read at random times.
+TEST(Scope, EncodedRingReadsBackEverySample) {
+  std::mt19937 rng(26);
+  const auto pick = [&](std::uint32_t n) { return std::uniform_int_distribution<std::uint32_t>(0, n - 1)(rng); };
+  const auto step = [&](std::int32_t v) -> std::int32_t {
+    switch (pick(6)) {
+      case 0: return v;
+      case 1: return pick(2) ? INT32_MAX : INT32_MIN;
+      case 2: return static_cast<std::int32_t>(rng());
+      default: return static_cast<std::int32_t>(static_cast<std::int64_t>(v) + pick(4001) - 2000);
+    }
+  };
+  for (int round = 0; round < 10; ++round) {
+    Scope scope;
+    PlainScope plain;
+    ScopeSample s{};
+    std::uint64_t t = 1000;
+    for (int i = 0; i < 30000; ++i) {
+      if (pick(3) != 0)
+        s = ScopeSample{step(s.pos), step(s.vel), step(s.cur), step(s.target),
+                        static_cast<std::uint16_t>(pick(4) == 0 ? rng() : s.sw)};
+      std::uint64_t count = 1;
+      if (pick(50) == 0) count = pick(3) == 0 ? pick(30000) : pick(40);
+      if (pick(2000) == 0) t = pick(2) ? t + 5 * (1 + pick(10)) : t / 2 / 5 * 5;  // a gap, or back
+      scope.add_run(t, count, s);
+      plain.add_run(t, count, s);
+      t += 5 * count;
+      ASSERT_EQ(scope.size(), plain.size());
+      if (pick(500) == 0 || i == 29999) {
+        const std::uint64_t since = pick(2) ? 0 : t - 5 * pick(13000);
+        const auto a = scope.since_ms(since);
+        const auto b = plain.since_ms(since);
+        ASSERT_EQ(a.t0, b.t0) << "round " << round << " step " << i;
+        ASSERT_EQ(a.samples, b.samples) << "round " << round << " step " << i;
+      }
+      if (pick(300) == 0) {
+        const auto a = scope.take_new();
+        const auto b = plain.take_new();
+        ASSERT_EQ(a.t0, b.t0);
+        ASSERT_EQ(a.samples, b.samples);
+      }
+    }
+  }
+}
+
+// A moving drive's window (every sample differs a little from the one before) takes a few bytes a
+// sample, not the 24 of a plain run.
+TEST(Scope, MovingWindowTakesFewBytesPerSample) {
+  Scope s;
+  std::int32_t pos = 0;
+  std::int32_t vel = 0;
+  for (std::uint64_t t = 0; t < 2 * Scope::k_window_ms; t += 5) {
+    vel = std::min(vel + 20, 4000);  // accelerating, then constant
+    pos += vel / 200;
+    s.add(t, ScopeSample{pos, vel, 300 + static_cast<std::int32_t>(t % 7), 100000, 0x1237});
+  }
+  EXPECT_EQ(s.size(), Scope::k_capacity);
+  EXPECT_LE(s.encoded_bytes(), 6 * Scope::k_capacity);
+  EXPECT_EQ(s.since_ms(0).samples.back().pos, pos);
 }
 
 TEST(Scope, TakeNewReturnsEachSampleOnce) {
