@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "device/config_image.hpp"
+#include "device/json_fields.hpp"
 #include "device/parts.hpp"
 #include "device/plant_settings.hpp"
 #include "drive/faults.hpp"
@@ -45,16 +46,15 @@ lint::Config lint_config(const nlohmann::json& config, const Setup& setup) {
 std::size_t trace_events(const nlohmann::json& config) {
   const auto it = config.find("trace");
   if (it == config.end()) return trace::Ring::k_default_capacity;
-  const std::string what = "config: \"trace.events\" must be an integer 1 … " + std::to_string(k_max_trace_events);
   if (!it->is_object()) throw ConfigError("config: \"trace\" must be an object");
+  std::size_t events = trace::Ring::k_default_capacity;
   for (const auto& [key, value] : it->items()) {
     if (key != "events") throw ConfigError("config: unknown key \"trace." + key + "\"");
-    if (!value.is_number_integer() || value.get<std::int64_t>() < 1 ||
-        value.get<std::int64_t>() > static_cast<std::int64_t>(k_max_trace_events)) {
-      throw ConfigError(what);
-    }
+    const auto n = json_uint(value, 1, k_max_trace_events);
+    if (!n) throw ConfigError("config: \"trace.events\" must be an integer 1 … " + std::to_string(k_max_trace_events));
+    events = static_cast<std::size_t>(*n);
   }
-  return it->value("events", trace::Ring::k_default_capacity);
+  return events;
 }
 
 std::string hex2(std::uint32_t v) {

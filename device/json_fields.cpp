@@ -28,7 +28,8 @@ std::optional<std::uint32_t> json_hex_or_number(const json& v, std::uint32_t max
 }
 
 std::optional<std::uint64_t> json_uint(const json& v, std::uint64_t min, std::uint64_t max) {
-  if (!v.is_number_unsigned()) return std::nullopt;
+  // Parsed text holds a non-negative integer as unsigned; a document built in code may hold it signed.
+  if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<std::int64_t>() >= 0)) return std::nullopt;
   const auto n = v.get<std::uint64_t>();
   if (n < min || n > max) return std::nullopt;
   return n;
