@@ -1,5 +1,6 @@
 #include "persistence/state_document.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 
@@ -62,32 +63,200 @@ std::string hex32(std::uint32_t v) {
   return buf.data();
 }
 
-json payload_json(const Image& image) {
-  json objects = json::object();
-  for (const auto& sv : image.objects) {
-    const auto key = object_key(sv.index, sv.sub);
-    if (std::holds_alternative<std::int64_t>(sv.value)) {
-      objects[key] = std::get<std::int64_t>(sv.value);
+namespace {
+
+// Well-formed UTF-8 (Unicode 15 table 3-7): what nlohmann-json's strict dump() accepts.
+bool is_utf8(std::string_view s) {
+  std::size_t i = 0;
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+  while (i < s.size()) {
+    const unsigned char c = byte(i);
+    if (c < 0x80) {
+      ++i;
+      continue;
+    }
+    std::size_t n = 0;
+    unsigned char lo = 0x80;
+    unsigned char hi = 0xBF;
+    if (c >= 0xC2 && c <= 0xDF) {
+      n = 1;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+      n = 2;
+      if (c == 0xE0) lo = 0xA0;  // no overlong forms
+      if (c == 0xED) hi = 0x9F;  // no surrogates
+    } else if (c >= 0xF0 && c <= 0xF4) {
+      n = 3;
+      if (c == 0xF0) lo = 0x90;  // no overlong forms
+      if (c == 0xF4) hi = 0x8F;  // nothing above U+10FFFF
     } else {
-      objects[key] = std::get<std::string>(sv.value);
+      return false;
+    }
+    if (i + n >= s.size()) return false;  // cut short
+    if (byte(i + 1) < lo || byte(i + 1) > hi) return false;
+    for (std::size_t k = 2; k <= n; ++k) {
+      if (byte(i + k) < 0x80 || byte(i + k) > 0xBF) return false;
+    }
+    i += n + 1;
+  }
+  return true;
+}
+
+// The state file's text written straight from the image, byte for byte what nlohmann-json's dump()
+// of the document would be (keys sorted, `pretty`: dump(2); else dump()), without building the
+// document: a Store or Restore writes the whole dictionary, and the document was most of its cost
+// (a node and a key string per object). tests/persistence/state_document_test.cpp keeps the
+// document as the reference.
+class Writer {
+ public:
+  Writer(std::string& out, bool pretty) : out_(out), pretty_(pretty) {}
+
+  void open() {
+    out_.push_back('{');
+    first_ = true;
+    ++depth_;
+  }
+  void close() {
+    --depth_;
+    if (pretty_ && !first_) newline();
+    out_.push_back('}');
+    first_ = false;
+  }
+  void key(std::string_view k) {
+    if (!first_) out_.push_back(',');
+    if (pretty_) newline();
+    string(k);
+    out_.append(pretty_ ? ": " : ":");
+    first_ = false;
+  }
+  void number(std::int64_t n) { out_.append(std::to_string(n)); }
+  void boolean(bool b) { out_.append(b ? "true" : "false"); }
+  // As dump() escapes (ensure_ascii off): `"`, `\`, the short escapes, other controls as \u00xx.
+  void string(std::string_view s) {
+    if (!is_utf8(s)) {
+      out_.append(json(std::string(s)).dump());  // throws type_error 316, as the document's dump did
+      return;
+    }
+    out_.push_back('"');
+    for (const char ch : s) {
+      const auto c = static_cast<unsigned char>(ch);
+      switch (c) {
+        case '"': out_.append("\\\""); break;
+        case '\\': out_.append("\\\\"); break;
+        case '\b': out_.append("\\b"); break;
+        case '\f': out_.append("\\f"); break;
+        case '\n': out_.append("\\n"); break;
+        case '\r': out_.append("\\r"); break;
+        case '\t': out_.append("\\t"); break;
+        default:
+          if (c < 0x20) {
+            std::array<char, 8> buf{};
+            std::snprintf(buf.data(), buf.size(), "\\u%04x", c);
+            out_.append(buf.data());
+          } else {
+            out_.push_back(ch);
+          }
+      }
+    }
+    out_.push_back('"');
+  }
+  // An opaque value (the script object): its own dump, indented to where it stands.
+  void value(const json& j) {
+    if (!pretty_) {
+      out_.append(j.dump());
+      return;
+    }
+    const std::string text = j.dump(2);  // a dump holds no raw line end inside a string
+    for (const char ch : text) {
+      out_.push_back(ch);
+      if (ch == '\n') out_.append(2 * depth_, ' ');
     }
   }
-  return json{{"objects", objects},
-              {"home_offset_inc", image.home_offset_inc},
-              {"program", json{{"autostart", image.autostart}, {"script", image.script}}}};
+
+ private:
+  void newline() {
+    out_.push_back('\n');
+    out_.append(2 * depth_, ' ');
+  }
+
+  std::string& out_;
+  bool pretty_;
+  bool first_ = true;
+  std::size_t depth_ = 0;
+};
+
+// The objects in key order ("IIII.SS", upper-case hex of fixed width: the numeric order), the last
+// of equal keys kept, as assigning them to a JSON object in image order would.
+std::vector<const od::StoredValue*> key_order(const Image& image) {
+  std::vector<const od::StoredValue*> v;
+  v.reserve(image.objects.size());
+  for (const auto& sv : image.objects) v.push_back(&sv);
+  const auto key = [](const od::StoredValue* p) { return (std::uint32_t{p->index} << 8) | p->sub; };
+  std::stable_sort(v.begin(), v.end(), [&](const auto* a, const auto* b) { return key(a) < key(b); });
+  std::vector<const od::StoredValue*> out;
+  out.reserve(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (i + 1 < v.size() && key(v[i + 1]) == key(v[i])) continue;
+    out.push_back(v[i]);
+  }
+  return out;
 }
+
+void write_payload(Writer& w, const Image& image, const std::vector<const od::StoredValue*>& objects) {
+  w.open();
+  w.key("home_offset_inc");
+  w.number(image.home_offset_inc);
+  w.key("objects");
+  w.open();
+  for (const auto* sv : objects) {
+    w.key(object_key(sv->index, sv->sub));
+    if (const auto* n = std::get_if<std::int64_t>(&sv->value)) {
+      w.number(*n);
+    } else {
+      w.string(std::get<std::string>(sv->value));
+    }
+  }
+  w.close();
+  w.key("program");
+  w.open();
+  w.key("autostart");
+  w.boolean(image.autostart);
+  w.key("script");
+  w.value(image.script);
+  w.close();
+  w.close();
+}
+
+}  // namespace
 
 std::string serialize(const Image& image, std::string_view model, std::string_view mcemu_version,
                       std::string_view written_utc) {
-  const json payload = payload_json(image);
-  const json doc{{"format", k_format},
-                 {"format_version", k_format_version},
-                 {"model", model},
-                 {"mcemu_version", mcemu_version},
-                 {"written_utc", written_utc},
-                 {"payload", payload},
-                 {"payload_crc32", hex32(crc32(payload.dump()))}};
-  return doc.dump(2) + "\n";
+  const auto objects = key_order(image);
+  std::string compact;  // what payload_crc32 is the CRC of
+  compact.reserve(objects.size() * 20 + 128);
+  Writer c(compact, false);
+  write_payload(c, image, objects);
+
+  std::string out;
+  out.reserve(compact.size() + objects.size() * 8 + 512);
+  Writer w(out, true);
+  w.open();
+  w.key("format");
+  w.string(k_format);
+  w.key("format_version");
+  w.number(k_format_version);
+  w.key("mcemu_version");
+  w.string(mcemu_version);
+  w.key("model");
+  w.string(model);
+  w.key("payload");
+  write_payload(w, image, objects);
+  w.key("payload_crc32");
+  w.string(hex32(crc32(compact)));
+  w.key("written_utc");
+  w.string(written_utc);
+  w.close();
+  out.push_back('\n');
+  return out;
 }
 
 std::variant<ParsedFile, ParseFailure> parse(std::string_view text, std::string_view running_model,

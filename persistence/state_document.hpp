@@ -39,8 +39,9 @@ std::optional<std::pair<std::uint16_t, std::uint8_t>> parse_object_key(std::stri
 std::uint32_t crc32(std::string_view bytes);  // IEEE 802.3 / zlib
 std::string hex32(std::uint32_t v);           // "0x8a41c0de"
 
-nlohmann::json payload_json(const Image& image);
-// The complete file text (keys sorted, 2-space indent, LF line ends, trailing LF).
+// The complete file text (keys sorted, 2-space indent, LF line ends, trailing LF): what
+// nlohmann-json's dump(2) of the document would be, written without building it. payload_crc32 is
+// the CRC of the payload's compact form (dump()); a string that is not UTF-8 throws as dump() does.
 std::string serialize(const Image& image, std::string_view model, std::string_view mcemu_version,
                       std::string_view written_utc);
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "drive/model/model_preset.hpp"
 
@@ -82,7 +83,7 @@ TEST(Document, RoundTripIsExactAndCanonical) {
   ASSERT_TRUE(std::holds_alternative<ParsedFile>(parsed));
   const auto& p = std::get<ParsedFile>(parsed);
   EXPECT_TRUE(p.bad_keys.empty());
-  EXPECT_EQ(payload_json(p.image), payload_json(img));
+  EXPECT_EQ(serialize(p.image, "MC349", "0.1.0", "x"), serialize(img, "MC349", "0.1.0", "x")) << "the same image";
   EXPECT_EQ(p.image.home_offset_inc, -123);
   EXPECT_TRUE(p.image.autostart);
   // 340Fh.01 is UNSIGNED32: stored as its bit pattern
@@ -127,6 +128,160 @@ INSTANTIATE_TEST_SUITE_P(
                       Corrupt{"missing", replace(valid_text(), "\"payload_crc32\"", "\"x\""), "missing member"},
                       Corrupt{"model", valid_text("MC349_AE"), "stored for model MC349_AE, running as MC349"}),
     [](const auto& p) { return std::string(p.param.name); });
+
+// The file as the document used to write it (nlohmann-json: an object per level, dump(2)); the
+// reference serialize() must equal byte for byte, since payload_crc32 and every file already on disk
+// were made this way.
+std::string serialize_as_document(const Image& image, std::string_view model, std::string_view version,
+                                  std::string_view written) {
+  using nlohmann::json;
+  json objects = json::object();
+  for (const auto& sv : image.objects) {
+    const auto key = object_key(sv.index, sv.sub);
+    if (std::holds_alternative<std::int64_t>(sv.value)) {
+      objects[key] = std::get<std::int64_t>(sv.value);
+    } else {
+      objects[key] = std::get<std::string>(sv.value);
+    }
+  }
+  const json payload{{"objects", objects},
+                     {"home_offset_inc", image.home_offset_inc},
+                     {"program", json{{"autostart", image.autostart}, {"script", image.script}}}};
+  const json doc{{"format", k_format},
+                 {"format_version", k_format_version},
+                 {"model", model},
+                 {"mcemu_version", version},
+                 {"written_utc", written},
+                 {"payload", payload},
+                 {"payload_crc32", hex32(crc32(payload.dump()))}};
+  return doc.dump(2) + "\n";
+}
+
+// Random text: plain ASCII, the characters JSON escapes, every control character, UTF-8 of one to
+// four bytes, and (when `broken`) bytes that are not UTF-8: lone continuation bytes, overlong forms,
+// surrogates, code points above U+10FFFF, sequences cut short.
+std::string random_text(std::mt19937_64& rng, bool broken) {
+  static const std::vector<std::string> pieces{"a",
+                                               "Z",
+                                               " ",
+                                               "\"",
+                                               "\\",
+                                               "/",
+                                               "\b",
+                                               "\f",
+                                               "\n",
+                                               "\r",
+                                               "\t",
+                                               std::string(1, '\0'),
+                                               "\x01",
+                                               "\x1f",
+                                               "\x7f",
+                                               "\xc2\x80",
+                                               "\xc3\xa9",
+                                               "\xdf\xbf",
+                                               "\xe0\xa0\x80",
+                                               "\xe2\x82\xac",
+                                               "\xed\x9f\xbf",
+                                               "\xee\x80\x80",
+                                               "\xef\xbf\xbf",
+                                               "\xf0\x90\x80\x80",
+                                               "\xf4\x8f\xbf\xbf",
+                                               "{}",
+                                               "[1,2]",
+                                               "0x1F",
+                                               "\u00e9"};
+  static const std::vector<std::string> bad{"\x80",
+                                            "\xbf",
+                                            "\xc0\x80",
+                                            "\xc1\xbf",
+                                            "\xc2",
+                                            "\xe0\x80\x80",
+                                            "\xe0\x9f\xbf",
+                                            "\xed\xa0\x80",
+                                            "\xed\xbf\xbf",
+                                            "\xe2\x82",
+                                            "\xf0\x80\x80\x80",
+                                            "\xf0\x8f\xbf\xbf",
+                                            "\xf4\x90\x80\x80",
+                                            "\xf5\x80\x80\x80",
+                                            "\xff",
+                                            "\xfe",
+                                            "\xf0\x90\x80"};
+  std::string s;
+  const auto n = rng() % 12;
+  for (std::uint64_t i = 0; i < n; ++i) {
+    if (rng() % 50 == 0) {
+      s.push_back(static_cast<char>(rng()));  // any byte
+    } else {
+      s += pieces[rng() % pieces.size()];
+    }
+  }
+  if (broken) s.insert(rng() % (s.size() + 1), bad[rng() % bad.size()]);
+  return s;
+}
+
+nlohmann::json random_script(std::mt19937_64& rng, int depth) {
+  using nlohmann::json;
+  switch (rng() % (depth > 3 ? 5 : 7)) {
+    case 0: return nullptr;
+    case 1: return static_cast<std::int64_t>(rng());
+    case 2: return (rng() & 1) != 0;
+    case 3: return random_text(rng, false);
+    case 4: return static_cast<double>(static_cast<std::int64_t>(rng() % 2000000) - 1000000) / 64.0;
+    case 5: {
+      json a = json::array();
+      for (std::uint64_t i = rng() % 4; i > 0; --i) a.push_back(random_script(rng, depth + 1));
+      return a;
+    }
+    default: {
+      json o = json::object();
+      for (std::uint64_t i = rng() % 5; i > 0; --i) o[random_text(rng, false)] = random_script(rng, depth + 1);
+      return o;
+    }
+  }
+}
+
+TEST(Document, SerializeWritesWhatTheDocumentWrote) {
+  std::mt19937_64 rng(26);
+  const std::array<std::int64_t, 8> edges{0, 1, -1, INT64_MIN, INT64_MAX, 4294967295LL, -2147483648LL, 255};
+  int threw = 0;
+  for (int round = 0; round < 3000; ++round) {
+    Image img;
+    const auto n = round % 10 == 0 ? 0 : rng() % 40;
+    for (std::uint64_t i = 0; i < n; ++i) {
+      // few indexes, so that keys repeat (the last one counts) and arrive out of order
+      const auto index = static_cast<std::uint16_t>(rng() % 4 == 0 ? rng() : 0x6080 + rng() % 4);
+      const auto sub = static_cast<std::uint8_t>(rng() % 3 == 0 ? rng() : rng() % 3);
+      od::Value v;
+      if (rng() % 4 == 0) {
+        v = random_text(rng, round % 20 == 0 && i == 0);
+      } else {
+        v = rng() % 3 == 0 ? edges[rng() % edges.size()] : static_cast<std::int64_t>(rng() % 200001) - 100000;
+      }
+      img.objects.push_back({index, sub, v});
+    }
+    img.home_offset_inc = rng() % 2 == 0 ? edges[rng() % edges.size()] : static_cast<std::int64_t>(rng());
+    img.autostart = (rng() & 1) != 0;
+    img.script = rng() % 3 == 0 ? nlohmann::json(nullptr) : random_script(rng, 0);
+    const std::string model = round % 7 == 0 ? random_text(rng, round % 14 == 0) : "MC349";
+    const std::string version = round % 5 == 0 ? random_text(rng, false) : "0.3.0";
+    const std::string written = round % 3 == 0 ? random_text(rng, false) : "2026-12-08T01:00:00Z";
+
+    std::optional<std::string> want;
+    std::optional<std::string> got;
+    try {
+      want = serialize_as_document(img, model, version, written);
+    } catch (const nlohmann::json::type_error&) {
+    }
+    try {
+      got = serialize(img, model, version, written);
+    } catch (const nlohmann::json::type_error&) {
+    }
+    ASSERT_EQ(got, want) << "round " << round;
+    if (!want) ++threw;
+  }
+  EXPECT_GT(threw, 100) << "text that is not UTF-8 was tried (and refused by both)";
+}
 
 TEST(Document, UnknownKeysAndBadValuesAreReportedNotFatal) {
   auto od = make("MC349");
