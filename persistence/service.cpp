@@ -1,5 +1,7 @@
 #include "persistence/service.hpp"
 
+#include <algorithm>
+
 namespace mcemu::persistence {
 
 namespace {
@@ -8,17 +10,20 @@ std::int64_t get_number(const od::Value& v) {
   return std::holds_alternative<std::int64_t>(v) ? std::get<std::int64_t>(v) : 0;
 }
 
-// Replaces the values of `group` in `target` with those of `source`.
+// Replaces the values of `group` in `target` with those of `source` (the first of equal keys in
+// `source`, which holds each key once when it comes from a snapshot or a file).
 void take_group(Image& target, const Image& source, Group group, const od::ObjectDictionary& od) {
+  const auto key = [](const od::StoredValue& sv) { return (std::uint32_t{sv.index} << 8) | sv.sub; };
+  std::vector<const od::StoredValue*> by_key;
+  by_key.reserve(source.objects.size());
+  for (const auto& src : source.objects) by_key.push_back(&src);
+  std::stable_sort(by_key.begin(), by_key.end(), [&](const auto* a, const auto* b) { return key(*a) < key(*b); });
   for (auto& sv : target.objects) {
     const auto* info = od.info(sv.index, sv.sub);
     if (!info || group_of(*info) != group) continue;
-    for (const auto& src : source.objects) {
-      if (src.index == sv.index && src.sub == sv.sub) {
-        sv.value = src.value;
-        break;
-      }
-    }
+    const auto it = std::lower_bound(by_key.begin(), by_key.end(), key(sv),
+                                     [&](const od::StoredValue* p, std::uint32_t k) { return key(*p) < k; });
+    if (it != by_key.end() && key(**it) == key(sv)) sv.value = (*it)->value;
   }
 }
 
